@@ -1,0 +1,14 @@
+"""planetviz: planets with physically based atmospheres (Costa et al., TVCG 2020).
+
+Example
+-------
+>>> import planetviz
+>>> atm = planetviz.load_atmosphere("earth")
+>>> round(float(atm.vertical_optical_depth()[1]), 3)   # Rayleigh + Mie + ozone at 550 nm
+0.129
+"""
+from .atmosphere import Atmosphere, AtmosphereError
+from .presets import PRESETS, load_atmosphere
+
+__all__ = ["Atmosphere", "AtmosphereError", "PRESETS", "load_atmosphere"]
+__version__ = "0.1.0"

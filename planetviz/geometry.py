@@ -1,0 +1,64 @@
+"""Planet-centred geometry: stable ray-sphere intersections and the (r, mu, mu_s, nu) coordinates.
+
+Positions are planet-centred, in metres, float64. Intersections use the forms that stay
+accurate for a camera 1 mm above a 6.4e6 m sphere and for one 1e12 m away: the
+discriminant as R^2 minus the squared distance of closest approach, and
+c = (r - R)(r + R) with the root of smaller magnitude taken as c / q.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def normalize(v):
+    """Unit vectors along the last axis."""
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def ray_sphere(origin, direction, radius):
+    """Both roots t0 <= t1 of |origin + t direction| = radius (``direction`` unit); NaN where missed.
+
+    Returns arrays shaped like ``origin[..., 0]``.
+    """
+    o = np.asarray(origin, dtype=float)
+    d = np.asarray(direction, dtype=float)
+    b = np.einsum("...i,...i->...", o, d)
+    r = np.linalg.norm(o, axis=-1)
+    perp = o - b[..., None] * d
+    disc = radius * radius - np.einsum("...i,...i->...", perp, perp)
+    hit = disc >= 0.0
+    sq = np.sqrt(np.where(hit, disc, 0.0))
+    c = (r - radius) * (r + radius)
+    q = -b - np.where(b >= 0.0, sq, -sq)  # q = -(b + sign(b) sq), never a cancellation
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ta = q
+        tb = np.where(q != 0.0, c / q, 0.0)
+    t0 = np.where(hit, np.minimum(ta, tb), np.nan)
+    t1 = np.where(hit, np.maximum(ta, tb), np.nan)
+    return t0, t1
+
+
+def distance_to_ground(origin, direction, bottom_radius):
+    """Distance along the ray to the ground, or inf where the ray never reaches it.
+
+    Only rays moving toward the centre (o . d < 0) from on or above the ground can hit it,
+    which keeps a point resting on the ground with an upward direction from hitting itself.
+    """
+    o = np.asarray(origin, dtype=float)
+    d = np.asarray(direction, dtype=float)
+    t0, _ = ray_sphere(o, d, bottom_radius)
+    b = np.einsum("...i,...i->...", o, d)
+    ok = np.isfinite(t0) & (b < 0.0)
+    return np.where(ok, np.maximum(t0, 0.0), np.inf)
+
+
+def distance_to_top_exit(origin, direction, top_radius):
+    """Distance from a point inside the top sphere to where the ray leaves it (far root, >= 0)."""
+    _, t1 = ray_sphere(origin, direction, top_radius)
+    return np.maximum(np.nan_to_num(t1, nan=0.0), 0.0)
+
+
+def altitude(points, bottom_radius):
+    """h = |x| - R_bottom [m]."""
+    return np.linalg.norm(points, axis=-1) - bottom_radius

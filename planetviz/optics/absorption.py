@@ -1,0 +1,60 @@
+"""Absorption by molecules and small particles (paper Sect. 4.2, Eqs. 12-15)."""
+from __future__ import annotations
+
+import csv
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+DATA = Path(__file__).resolve().parents[2] / "assets" / "data"
+DOBSON_UNIT = 2.6867e20  # molecules/m^2
+
+
+def small_particle_absorption(wavelength_m, radius_m, m, k, number_density):
+    """beta_R^abs at the ground [1/m] = 8 pi^2 r^3 N / lambda * Im((n^2 - 1) / (n^2 + 2))  (Eq. 12).
+
+    ``n = m + i k`` is the complex refractive index of the particles of radius r.
+    """
+    n = np.asarray(m, dtype=float) + 1j * np.asarray(k, dtype=float)
+    lorentz = (n * n - 1.0) / (n * n + 2.0)
+    return 8.0 * np.pi ** 2 * radius_m ** 3 * number_density / np.asarray(wavelength_m, float) * lorentz.imag
+
+
+def oxygen_absorption(cross_section_m2, volume_fraction, number_density):
+    """beta_O2^abs at the ground [1/m] = sigma_O2 * O2% * N_0  (Eqs. 13-14; profile exp(-h / H_O2))."""
+    return np.asarray(cross_section_m2, dtype=float) * volume_fraction * number_density
+
+
+def _read_csv(path: Path):
+    with open(path) as f:
+        rows = [r for r in csv.reader(line for line in f if not line.startswith("#"))]
+    header, body = rows[0], np.array(rows[1:], dtype=float)
+    return {name: body[:, i] for i, name in enumerate(header)}
+
+
+@lru_cache(maxsize=None)
+def ozone_cross_section_table():
+    """(bin-centre wavelengths [nm], sigma_O3 [m^2]) from assets/data/ozone_cross_section.csv."""
+    t = _read_csv(DATA / "ozone_cross_section.csv")
+    return t["wavelength_nm"], t["cross_section_m2"]
+
+
+def ozone_cross_section(wavelength_nm):
+    """sigma_O3(lambda) [m^2], linear between the 10 nm bins, 0 outside 365-835 nm."""
+    wl, sigma = ozone_cross_section_table()
+    return np.interp(np.asarray(wavelength_nm, dtype=float), wl, sigma, left=0.0, right=0.0)
+
+
+@lru_cache(maxsize=None)
+def ozone_profile_table():
+    """(altitude [m], O3 number density [1/m^3]) of the US Standard Atmosphere (AFGL 1986, table 1f)."""
+    t = _read_csv(DATA / "ozone_us_standard_1976.csv")
+    return t["altitude_m"], t["o3_number_density_m3"]
+
+
+def ozone_column_du(altitude_m=None, density_m3=None) -> float:
+    """Total column [Dobson units] of a profile (trapezoid rule on the table's nodes)."""
+    if altitude_m is None:
+        altitude_m, density_m3 = ozone_profile_table()
+    return float(np.trapezoid(density_m3, altitude_m) / DOBSON_UNIT)
