@@ -9,8 +9,14 @@ unscattered direct beam, L_0) is excluded. Result: radiance in 1/sr per unit sol
 Method (per wavelength, vectorised over paths): paths start at the camera (moved to the
 entry point when it is in space) and are traced backward.
 
-* Free flights by delta tracking against a constant majorant of beta_ext over the shell:
-  unbiased for any profile.
+* Free flights by forced collisions: along each straight segment (to the ground or to space)
+  the optical depth tau(t) is tabulated at 65 nodes clustered at the point of closest approach,
+  each interval integrated by 4-point Gauss-Legendre (relative error < 1e-6, tested against
+  :func:`optical_depth`), linear in t within an interval. A collision is forced inside the
+  segment with probability 1 when the segment leaves to space (weight 1 - T_segment) and
+  max(1 - T, 1/2) when it ends on the ground (weights (1 - T) / p and T / (1 - p)), and its
+  distance is drawn from the tabulated tau, so thin atmospheres are sampled as well as thick
+  ones.
 * At a real collision the path weight is multiplied by the single-scattering albedo
   beta_scat / beta_ext (absorption as weighting, not termination); the next-event estimate
   adds weight * P(nu) * T_sun, with P the mixture of the Rayleigh and Mie phase functions
@@ -112,6 +118,45 @@ def _sample_phase(atm, w, b_r, b_m, rng):
     return cos
 
 
+_GL4_X, _GL4_W = np.polynomial.legendre.leggauss(4)
+_SEGMENT_INTERVALS = 64
+
+
+def segment_optical_depth(atm, w, p, d, length):
+    """(node distances (P, K+1), cumulative tau at the nodes (P, K+1)) along p + t d, t in [0, length].
+
+    Nodes cluster at the point of closest approach t_c (t = t_c (1 - (1 - v)^2) before it,
+    t_c + (L - t_c) v^2 after it); each interval is integrated by 4-point Gauss-Legendre.
+    """
+    half = _SEGMENT_INTERVALS // 2
+    v = np.linspace(0.0, 1.0, half + 1)
+    tc = np.clip(-np.einsum("ij,ij->i", p, d), 0.0, length)[:, None]
+    before = tc * (1.0 - (1.0 - v) ** 2)
+    after = tc + (length[:, None] - tc) * v[1:] ** 2
+    t = np.concatenate([before, after], axis=1)                    # (P, K+1)
+    a, b = t[:, :-1], t[:, 1:]
+    mid, rad = 0.5 * (a + b), 0.5 * (b - a)
+    tq = mid[..., None] + rad[..., None] * _GL4_X                   # (P, K, 4)
+    pts = p[:, None, None, :] + tq[..., None] * d[:, None, None, :]
+    h = np.linalg.norm(pts, axis=-1) - atm.bottom_radius_m
+    sig = atm.extinction(h, w)[..., 0]
+    dtau = rad * (sig * _GL4_W).sum(-1)
+    tau = np.concatenate([np.zeros((len(p), 1)), np.cumsum(dtau, axis=1)], axis=1)
+    return t, tau
+
+
+def _sample_in_segment(t, tau, target):
+    """Distance where the piecewise-linear tau(t) reaches ``target`` (< tau[-1]), and sigma there."""
+    k = np.array([np.searchsorted(row, x, side="right") - 1 for row, x in zip(tau, target)])
+    k = np.clip(k, 0, t.shape[1] - 2)
+    rows = np.arange(len(t))
+    dt = t[rows, k + 1] - t[rows, k]
+    dtau = tau[rows, k + 1] - tau[rows, k]
+    sigma = np.where(dt > 0, dtau / np.where(dt > 0, dt, 1.0), 0.0)
+    frac = np.where(dtau > 0, (target - tau[rows, k]) / np.where(dtau > 0, dtau, 1.0), 0.0)
+    return t[rows, k] + frac * dt, sigma
+
+
 def _trace(atm, w, origin, direction, sun, rng, max_order):
     """Contribution of one backward path per row, for wavelength index ``w``."""
     p_count = len(origin)
@@ -122,7 +167,6 @@ def _trace(atm, w, origin, direction, sun, rng, max_order):
     weight = np.ones(p_count)
     order = np.zeros(p_count, dtype=np.int64)
     idx = np.nonzero(end > start)[0]
-    majorant = float(atm.extinction_majorant()[w])
     albedo = float(atm.ground_albedo[w])
     r_bottom, r_top = atm.bottom_radius_m, atm.top_radius_m
     limit = np.iinfo(np.int64).max if max_order is None else max_order
@@ -130,56 +174,58 @@ def _trace(atm, w, origin, direction, sun, rng, max_order):
         p, dd = pos[idx], d[idx]
         t_ground = distance_to_ground(p, dd, r_bottom)
         t_top = distance_to_top_exit(p, dd, r_top)
-        t_bound = np.minimum(t_ground, t_top)
-        if majorant > 0.0:
-            t = -np.log1p(-rng.random(idx.size)) / majorant
-        else:
-            t = np.full(idx.size, np.inf)
-        collide = t < t_bound
+        ground = np.isfinite(t_ground) & (t_ground <= t_top)
+        length = np.where(ground, t_ground, t_top)
+        nodes, tau = segment_optical_depth(atm, w, p, dd, length)
+        trans = np.exp(-tau[:, -1])
+        absorbed = 1.0 - trans
+        p_collide = np.where(ground, np.maximum(absorbed, 0.5), 1.0)
+        p_collide = np.where(absorbed > 0.0, p_collide, 0.0)
+        collide = rng.random(idx.size) < p_collide
         alive = np.ones(idx.size, dtype=bool)
 
-        # ---- collisions: real with probability beta_ext / majorant, otherwise null
+        # ---- forced collision inside the segment
         if np.any(collide):
             ci = np.nonzero(collide)[0]
-            x = p[ci] + t[ci, None] * dd[ci]
-            pos[idx[ci]] = x
+            g = idx[ci]
+            target = -np.log1p(-rng.random(ci.size) * absorbed[ci])
+            t, sig_tilde = _sample_in_segment(nodes[ci], tau[ci], target)
+            x = p[ci] + t[:, None] * dd[ci]
+            pos[g] = x
             h = np.linalg.norm(x, axis=1) - r_bottom
             sig_t = atm.extinction(h, w)[:, 0]
-            real = rng.random(ci.size) * majorant < sig_t
-            ri = ci[real]
-            if ri.size:
-                g = idx[ri]
-                b_r, b_m = atm.scattering(h[real])
-                b_r, b_m = b_r[:, w], b_m[:, w]
-                b_s = b_r + b_m
-                weight[g] *= b_s / sig_t[real]
-                order[g] += 1
-                scat = b_s > 0.0
-                contrib = scat & (order[g] <= limit)
-                if np.any(contrib):
-                    gc = g[contrib]
-                    nu = np.einsum("ij,ij->i", d[gc], sun[gc])
-                    phase = (b_r[contrib] * atm.rayleigh.phase_function(nu)
-                             + b_m[contrib] * atm.mie.phase_function(nu)[:, w]) / b_s[contrib]
-                    t_sun = sun_transmittance(atm, pos[gc], sun[gc], index=w)[:, 0]
-                    radiance[gc] += weight[gc] * phase * t_sun
-                weight[g[~scat]] = 0.0
-                if np.any(scat):
-                    gs = g[scat]
-                    cos = _sample_phase(atm, w, b_r[scat], b_m[scat], rng)
-                    d[gs] = _onb_rotate(d[gs], cos, 2.0 * np.pi * rng.random(gs.size))
+            b_r, b_m = atm.scattering(h)
+            b_r, b_m = b_r[:, w], b_m[:, w]
+            b_s = b_r + b_m
+            ratio = np.where(sig_tilde > 0, sig_t / np.where(sig_tilde > 0, sig_tilde, 1.0), 0.0)
+            weight[g] *= absorbed[ci] / p_collide[ci] * ratio * np.where(sig_t > 0, b_s / np.where(sig_t > 0, sig_t, 1.0), 0.0)
+            order[g] += 1
+            scat = b_s > 0.0
+            contrib = scat & (order[g] <= limit)
+            if np.any(contrib):
+                gc = g[contrib]
+                nu = np.einsum("ij,ij->i", d[gc], sun[gc])
+                phase = (b_r[contrib] * atm.rayleigh.phase_function(nu)
+                         + b_m[contrib] * atm.mie.phase_function(nu)[:, w]) / b_s[contrib]
+                t_sun = sun_transmittance(atm, pos[gc], sun[gc], index=w)[:, 0]
+                radiance[gc] += weight[gc] * phase * t_sun
+            weight[g[~scat]] = 0.0
+            if np.any(scat):
+                gs = g[scat]
+                cos = _sample_phase(atm, w, b_r[scat], b_m[scat], rng)
+                d[gs] = _onb_rotate(d[gs], cos, 2.0 * np.pi * rng.random(gs.size))
 
-        # ---- boundaries: the ground reflects, the top lets the path escape
+        # ---- no collision: the ground reflects, the top lets the path escape
         bi = np.nonzero(~collide)[0]
         if bi.size:
-            ground = np.isfinite(t_ground[bi]) & (t_ground[bi] <= t_top[bi])
-            alive[bi[~ground]] = False
-            gi = bi[ground]
+            alive[bi[~ground[bi]]] = False
+            gi = bi[ground[bi]]
             if gi.size:
                 g = idx[gi]
                 x = p[gi] + t_ground[gi, None] * dd[gi]
                 normal = x / np.linalg.norm(x, axis=1, keepdims=True)
                 pos[g] = normal * r_bottom
+                weight[g] *= trans[gi] / (1.0 - p_collide[gi])
                 order[g] += 1
                 cos_s = np.maximum(np.einsum("ij,ij->i", normal, sun[g]), 0.0)
                 contrib = (order[g] <= limit) & (cos_s > 0.0) & (albedo > 0.0)

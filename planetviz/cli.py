@@ -1,0 +1,144 @@
+"""The ``planetviz`` command.
+
+    planetviz sky        [--atmosphere A] [--sun-elevation DEG] [--quality Q]
+    planetviz atmosphere PRESET_OR_FILE
+    planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
+                         [--method reference|lut|fallback] [--quality draft|standard|high]
+
+Invalid input exits with code 2 and one line naming the field and the allowed range.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+from .presets import PRESETS, load_atmosphere
+
+#: Monte Carlo paths per query of the reference solver at each quality.
+REFERENCE_SAMPLES = {"draft": 256, "standard": 2048, "high": 16384}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _cmd_atmosphere(args) -> int:
+    atm = load_atmosphere(args.atmosphere)
+    tau_total = atm.vertical_optical_depth()
+    print(f"atmosphere: {atm.name}   ground radius {atm.bottom_radius_m:.6g} m, "
+          f"top {atm.top_radius_m:.6g} m ({atm.thickness_m / 1e3:.4g} km)")
+    print(f"Rayleigh phase: {atm.rayleigh.phase}; profile {atm.rayleigh.profile.to_dict()}")
+    print(f"Mie profile {atm.mie.profile.to_dict()}; light: {atm.star.type}"
+          + (f" {atm.star.temperature_k:g} K" if atm.star.temperature_k else "")
+          + f"; air mass: {atm.air_mass}")
+    head = (f"{'lambda [nm]':>11} {'beta_R^scat':>12} {'beta_M^scat':>12} {'beta_M^ext':>12} "
+            f"{'beta_abs':>12} {'tau_R':>8} {'tau_M':>8} {'tau_abs':>8} {'tau':>8} "
+            f"{'g1':>6} {'g2':>6} {'alpha':>6} {'albedo':>6}")
+    print(head)
+    comps = atm.components()
+    h = np.linspace(0.0, atm.thickness_m, 4001)
+    w = np.full(h.size, 2.0)
+    w[1:-1:2] = 4.0
+    w[0] = w[-1] = 1.0
+    depth = [(w[:, None] * p.density(h)[:, None] * ext).sum(0) * (h[1] - h[0]) / 3 for _, ext, p in comps]
+    for i, lam in enumerate(atm.wavelengths_nm):
+        absorb = sum(c[1][i] for c in comps[2:])
+        tau_abs = sum(d[i] for d in depth[2:])
+        print(f"{lam:11.1f} {comps[0][0][i]:12.5e} {comps[1][0][i]:12.5e} {comps[1][1][i]:12.5e} "
+              f"{absorb:12.5e} {depth[0][i]:8.4f} {depth[1][i]:8.4f} {tau_abs:8.4f} {tau_total[i]:8.4f} "
+              f"{atm.mie.g1[i]:6.3f} {atm.mie.g2[i]:6.3f} {atm.mie.alpha[i]:6.3f} {atm.ground_albedo[i]:6.3f}")
+    print("(coefficients at the ground in 1/m; absorption layers' peak extinction; tau = vertical optical depth)")
+    return 0
+
+
+def _solve(atm, queries, method, quality, samples, seed):
+    if method != "reference":
+        raise ValueError(f"--method {method}: not available in this version; allowed: reference")
+    from .reference import solve
+    return solve(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
+                 samples=samples or REFERENCE_SAMPLES[quality], seed=seed)
+
+
+def _cmd_radiance(args) -> int:
+    from .queries import load_queries
+    atm = load_atmosphere(args.atmosphere)
+    queries = load_queries(args.queries, atm.bottom_radius_m)
+    result = _solve(atm, queries, args.method, args.quality, args.samples, args.seed)
+    np.savez(args.out, radiance=result.radiance, transmittance=result.transmittance,
+             wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float),
+             radiance_stderr=result.stderr)
+    print(f"wrote {args.out}: {len(queries.camera_m)} rays x {atm.n_wavelengths} wavelengths "
+          f"({args.method}, {result.samples} paths per ray)")
+    return 0
+
+
+def _cmd_sky(args) -> int:
+    from .color import radiance_to_srgb
+    from .reference import solve
+    atm = load_atmosphere(args.atmosphere)
+    elev = np.radians(args.sun_elevation)
+    sun = np.array([np.cos(elev), 0.0, np.sin(elev)])
+    camera = np.array([0.0, 0.0, atm.bottom_radius_m + 1.7])
+    views = {"zenith": (90, 0), "45 deg toward sun": (45, 0), "45 deg away from sun": (45, 180),
+             "horizon toward sun": (2, 0), "horizon at 90 deg": (2, 90), "horizon away from sun": (2, 180)}
+    dirs = np.array([[np.cos(np.radians(e)) * np.cos(np.radians(a)), np.cos(np.radians(e)) * np.sin(np.radians(a)),
+                      np.sin(np.radians(e))] for e, a in views.values()])
+    res = solve(atm, np.repeat(camera[None], len(dirs), 0), dirs, sun,
+                samples=REFERENCE_SAMPLES[args.quality], seed=args.seed)
+    rgb = radiance_to_srgb(res.radiance, atm)
+    print(f"{atm.name}: sky seen from 1.7 m above the ground, sun {args.sun_elevation:g} deg above the horizon "
+          f"(reference solver, {res.samples} paths per ray)")
+    print(f"{'view':>22}  " + "  ".join(f"L({lam:g} nm) [1/sr]" for lam in atm.wavelengths_nm) + "   sRGB (8-bit)")
+    for k, name in enumerate(views):
+        vals = "  ".join(f"{v:10.4e} +- {e:7.1e}" for v, e in zip(res.radiance[k], res.stderr[k]))
+        print(f"{name:>22}  {vals}   {tuple(int(c) for c in rgb[k])}")
+    print("(radiance per unit solar irradiance at the top of the atmosphere; colour: spectral radiance x star "
+          "spectrum -> CIE XYZ -> sRGB, exposure so that the brightest view is 0.8)")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    presets = ", ".join(PRESETS)
+    parser = _Parser(prog="planetviz", description="Planets with physically based atmospheres.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("sky", help="print the sky seen from the ground (the default Earth sky)")
+    p.add_argument("--atmosphere", default="earth", help=f"preset ({presets}) or JSON file")
+    p.add_argument("--sun-elevation", type=float, default=30.0, help="degrees above the horizon")
+    p.add_argument("--quality", choices=REFERENCE_SAMPLES, default="draft")
+    p.add_argument("--seed", type=int, default=0)
+    p.set_defaults(func=_cmd_sky)
+
+    p = sub.add_parser("atmosphere", help="print the derived standard-mode coefficients and optical depths")
+    p.add_argument("atmosphere", metavar="PRESET_OR_FILE", help=f"preset ({presets}) or JSON file")
+    p.set_defaults(func=_cmd_atmosphere)
+
+    p = sub.add_parser("radiance", help="radiance for a set of rays (Q.npz -> OUT.npz)")
+    p.add_argument("--atmosphere", required=True, help=f"preset ({presets}) or JSON file")
+    p.add_argument("--queries", required=True, help="npz with camera_m, view_dir, sun_dir")
+    p.add_argument("--out", required=True, help="output npz (radiance, transmittance, wavelengths_nm)")
+    p.add_argument("--method", choices=("reference", "lut", "fallback"), default="reference")
+    p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
+    p.add_argument("--samples", type=int, default=None, help="override the paths per ray (reference)")
+    p.add_argument("--seed", type=int, default=0)
+    p.set_defaults(func=_cmd_radiance)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except ValueError as exc:
+        print(f"planetviz: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"planetviz: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

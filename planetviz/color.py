@@ -1,0 +1,44 @@
+"""Colour from spectra: radiance at the atmosphere's wavelengths -> CIE XYZ -> sRGB (colour-science).
+
+Spectral radiance L(lambda) = radiance per unit irradiance x the star's E(lambda) at the
+atmosphere's wavelengths. Between them the spectrum is taken as piecewise linear (held
+constant beyond the end samples), so XYZ = k int L(lambda) cmf(lambda) d lambda over the CMF
+range is a fixed linear map of the samples (a flat spectrum stays white, with 3 wavelengths
+or 64); with k = 683 lm/W, Y is luminance in cd/m^2.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+LUMINOUS_EFFICACY = 683.0
+
+
+def xyz_matrix(wavelengths_nm):
+    """(W, 3) matrix M with XYZ = L_spectral @ M, for a piecewise-linear spectrum through the samples."""
+    import colour
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    wl = np.asarray(wavelengths_nm, dtype=float)
+    order = np.argsort(wl)
+    grid = cmfs.wavelengths
+    step = np.gradient(grid)
+    hats = np.stack([np.interp(grid, wl[order], np.eye(len(wl))[i][order]) for i in range(len(wl))])
+    return LUMINOUS_EFFICACY * (hats * step) @ cmfs.values
+
+
+def radiance_to_xyz(radiance, atm):
+    """CIE XYZ of radiance per unit irradiance (..., W) lit by the atmosphere's star."""
+    from .optics.light import star_irradiance
+    spectral = np.asarray(radiance, dtype=float) * star_irradiance(atm.star, atm.wavelengths_nm)
+    return spectral @ xyz_matrix(atm.wavelengths_nm)
+
+
+def radiance_to_srgb(radiance, atm, exposure=None):
+    """8-bit sRGB; ``exposure`` multiplies linear sRGB (default: brightest channel at 0.8)."""
+    import colour
+    rgb = colour.XYZ_to_sRGB(radiance_to_xyz(radiance, atm), apply_cctf_encoding=False)
+    rgb = np.maximum(rgb, 0.0)
+    if exposure is None:
+        peak = rgb.max()
+        exposure = 0.8 / peak if peak > 0 else 1.0
+    encoded = colour.cctf_encoding(np.clip(rgb * exposure, 0.0, 1.0), function="sRGB")
+    return np.round(encoded * 255).astype(int)
