@@ -2,9 +2,10 @@
 
 The segment is split at the point of closest approach to the planet centre t_c (where a
 grazing ray meets the densest air); each part is mapped by t = t_c +/- span u^2, which
-clusters nodes near t_c, and integrated by composite Gauss-Legendre quadrature.
-Converged to ~1e-9 relative for exponential profiles (tests/test_reference.py checks the
-vertical case against the closed form).
+clusters nodes near t_c, and integrated by composite Gauss-Legendre quadrature (8 panels of
+16 points per part by default). Relative error: 1e-9 for exponential profiles (the vertical case
+against the closed form), ~3.5e-5 where a tent profile's kinks cross the ray (against 512 panels and a
+2e6-point trapezoid sum); tests/test_reference.py checks both.
 """
 from __future__ import annotations
 
@@ -69,8 +70,10 @@ def sun_transmittance(atm, points, sun_dir, index=None):
     p = np.asarray(points, dtype=float)
     s = np.broadcast_to(np.asarray(sun_dir, dtype=float), p.shape)
     blocked = np.isfinite(distance_to_ground(p, s, atm.bottom_radius_m))
-    tau = optical_depth(atm, p, s, np.inf, index=index)
-    return np.where(blocked[..., None], 0.0, np.exp(-tau))
+    out = np.zeros(p.shape[:-1] + ((atm.n_wavelengths,) if index is None else (1,)))
+    lit = ~blocked
+    out[lit] = np.exp(-optical_depth(atm, p[lit], s[lit], np.inf, index=index))
+    return out
 
 
 def view_transmittance(atm, camera, view_dir):
