@@ -153,13 +153,18 @@ class Atmosphere:
             total += ext * profile.max_density(0.0, self.thickness_m)
         return total
 
-    def vertical_optical_depth(self, n: int = 4001) -> np.ndarray:
-        """tau(lambda) from the ground to the top along the zenith (Simpson's rule on n nodes)."""
+    def component_optical_depths(self, n: int = 4001) -> list:
+        """Vertical optical depth of each component of :meth:`components` (Simpson's rule, n nodes)."""
         h = np.linspace(0.0, self.thickness_m, n)
         w = np.full(n, 2.0)
         w[1:-1:2] = 4.0
         w[0] = w[-1] = 1.0
-        return (self.extinction(h) * w[:, None]).sum(0) * (h[1] - h[0]) / 3.0
+        step = (h[1] - h[0]) / 3.0
+        return [ext * float(np.dot(w, profile.density(h))) * step for _, ext, profile in self.components()]
+
+    def vertical_optical_depth(self, n: int = 4001) -> np.ndarray:
+        """tau(lambda) from the ground to the top along the zenith."""
+        return sum(self.component_optical_depths(n))
 
     # ------------------------------------------------------------------ I/O
     def replace(self, **changes) -> "Atmosphere":
@@ -227,10 +232,9 @@ class _Reader:
             raise AtmosphereError(self.name(extra[0]), "unknown field")
 
     def number(self, key, lo, hi, lo_open=False, hi_open=False, optional=False, default=None):
-        value = self.get(key, optional=optional, default=default)
-        if value is default and optional and key not in self.data:
+        if optional and key not in self.data:
             return default
-        return check_number(value, self.name(key), lo, hi, lo_open, hi_open)
+        return check_number(self.get(key), self.name(key), lo, hi, lo_open, hi_open)
 
     def numbers(self, key, lo, hi, lo_open=False, hi_open=False):
         value = self.get(key)
@@ -365,7 +369,7 @@ def from_dict(data: dict) -> Atmosphere:
 def to_dict(atm: Atmosphere) -> dict:
     """The standard-mode dict (optional fields only when they differ from their defaults)."""
     def floats(values):
-        return [float(v) for v in values] if isinstance(values, (list, tuple)) else values
+        return [float(v) for v in values]
 
     out = {
         "name": atm.name,
@@ -374,15 +378,13 @@ def to_dict(atm: Atmosphere) -> dict:
         "top_radius_m": atm.top_radius_m,
         "ground_albedo": floats(atm.ground_albedo),
         "rayleigh": {"scattering_m": floats(atm.rayleigh.scattering_m),
-                     "profile": atm.rayleigh.profile.to_dict() if hasattr(atm.rayleigh.profile, "to_dict")
-                     else atm.rayleigh.profile,
+                     "profile": atm.rayleigh.profile.to_dict(),
                      "phase": atm.rayleigh.phase},
         "mie": {"scattering_m": floats(atm.mie.scattering_m),
                 "extinction_m": floats(atm.mie.extinction_m),
-                "profile": atm.mie.profile.to_dict() if hasattr(atm.mie.profile, "to_dict") else atm.mie.profile,
+                "profile": atm.mie.profile.to_dict(),
                 "phase": {"g1": floats(atm.mie.g1), "g2": floats(atm.mie.g2), "alpha": floats(atm.mie.alpha)}},
-        "absorption": [{"extinction_m": floats(a.extinction_m),
-                        "profile": a.profile.to_dict() if hasattr(a.profile, "to_dict") else a.profile}
+        "absorption": [{"extinction_m": floats(a.extinction_m), "profile": a.profile.to_dict()}
                        for a in atm.absorption],
     }
     if atm.star != Star():

@@ -39,11 +39,7 @@ def _cmd_atmosphere(args) -> int:
             f"{'g1':>6} {'g2':>6} {'alpha':>6} {'albedo':>6}")
     print(head)
     comps = atm.components()
-    h = np.linspace(0.0, atm.thickness_m, 4001)
-    w = np.full(h.size, 2.0)
-    w[1:-1:2] = 4.0
-    w[0] = w[-1] = 1.0
-    depth = [(w[:, None] * p.density(h)[:, None] * ext).sum(0) * (h[1] - h[0]) / 3 for _, ext, p in comps]
+    depth = atm.component_optical_depths()
     for i, lam in enumerate(atm.wavelengths_nm):
         absorb = sum(c[1][i] for c in comps[2:])
         tau_abs = sum(d[i] for d in depth[2:])

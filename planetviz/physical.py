@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .atmosphere import LIMITS, AtmosphereError, _Reader, check_number, from_dict
-from .optics.absorption import (DOBSON_UNIT, oxygen_absorption, ozone_column_du,
+from .optics.absorption import (oxygen_absorption, ozone_column_du,
                                 ozone_cross_section, ozone_profile_table, small_particle_absorption)
 from .optics.composition import GASES, mean_molar_mass, mixture_cross_section
 from .optics.mie import (mie_absorption_particles, mie_extinction_particles,
@@ -181,5 +181,3 @@ def derive(data: dict):
     """The validated :class:`~planetviz.atmosphere.Atmosphere` of an advanced-mode dict."""
     return from_dict(derive_dict(data))
 
-
-__all__ = ["DOBSON_UNIT", "derive", "derive_dict"]

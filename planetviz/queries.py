@@ -17,7 +17,10 @@ class Queries:
 
 
 def _directions(value, name, n):
-    a = np.asarray(value, dtype=float)
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: must be a numeric (N, 3) or (3,) array") from None
     if a.shape == (3,):
         a = np.broadcast_to(a, (n, 3))
     if a.shape != (n, 3):
@@ -46,11 +49,8 @@ def validate_queries(camera_m, view_dir, sun_dir, bottom_radius_m: float) -> Que
         i = int(np.nonzero(~np.all(np.isfinite(cam), axis=1))[0][0])
         raise ValueError(f"camera_m[{i}]: contains NaN or inf")
     n = len(cam)
-    try:
-        view = _directions(view_dir, "view_dir", n)
-        sun = _directions(sun_dir, "sun_dir", n)
-    except (TypeError,) as exc:
-        raise ValueError(f"directions must be numeric arrays: {exc}") from None
+    view = _directions(view_dir, "view_dir", n)
+    sun = _directions(sun_dir, "sun_dir", n)
     r = np.linalg.norm(cam, axis=1)
     below = r < bottom_radius_m - GROUND_TOLERANCE_M
     if np.any(below):
