@@ -73,7 +73,7 @@ def _cmd_radiance(args) -> int:
 
 def _cmd_sky(args) -> int:
     from .color import radiance_to_srgb
-    from .reference import solve
+    from .reference import ground_sun_transmittance, solve
     atm = load_atmosphere(args.atmosphere)
     elev = np.radians(args.sun_elevation)
     sun = np.array([np.cos(elev), 0.0, np.sin(elev)])
@@ -91,6 +91,9 @@ def _cmd_sky(args) -> int:
     for k, name in enumerate(views):
         vals = "  ".join(f"{v:10.4e} +- {e:7.1e}" for v, e in zip(res.radiance[k], res.stderr[k]))
         print(f"{name:>22}  {vals}   {tuple(int(c) for c in rgb[k])}")
+    sun_t = ground_sun_transmittance(atm, args.sun_elevation)[0]
+    print(f"{'sun disc transmittance':>22}  " + "  ".join(f"{t:10.4f}" + " " * 11 for t in sun_t)
+          + f"   ({atm.air_mass} air mass)")
     print("(radiance per unit solar irradiance at the top of the atmosphere; colour: spectral radiance x star "
           "spectrum -> CIE XYZ -> sRGB, exposure so that the brightest view is 0.8)")
     return 0

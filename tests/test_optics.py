@@ -106,6 +106,31 @@ def test_pickering_air_mass():
     assert pickering_air_mass(30.0) == pytest.approx(1 / np.sin(np.radians(30 + 244 / (165 + 47 * 30 ** 1.1))))
 
 
+def test_pickering_option_selects_the_ground_sun_transmittance():
+    from planetviz.reference import ground_sun_transmittance, optical_depth
+    adv = load_atmosphere("earth-advanced")                 # air_mass: pickering
+    geo = adv.replace(air_mass="geometric")
+    tau_z = optical_depth(geo, [[0, 0, geo.bottom_radius_m]], [[0, 0, 1.0]], np.inf)[0]
+    elev = np.array([90.0, 30.0, 0.0])
+    pick = ground_sun_transmittance(adv, elev)
+    straight = ground_sun_transmittance(geo, elev)
+    # Pickering: exp(-tau_z AM(h)), AM(90) = 1, AM(0) = 38.75; straight rays: the same at the zenith,
+    # 1/sin(30) = 2 to within the curvature at 30 deg (0.2%), and a shorter path (AM 35.4) at the horizon.
+    assert np.allclose(pick[0], straight[0], rtol=1e-3)
+    assert np.allclose(pick[2], np.exp(-tau_z * 1 / np.sin(np.radians(244 / 165))), rtol=1e-12)
+    assert np.allclose(np.log(straight[1]) / np.log(straight[0]), 2.0, rtol=3e-3)
+    assert np.all(ground_sun_transmittance(adv, -2.0) == 0.0)
+    # For the Rayleigh layer alone Pickering's refracted path (38.75 air masses) is longer than the
+    # straight one (35.4); with the 1.2 km aerosol layer (~90 straight air masses at the horizon) it is
+    # shorter, since Eq. 21 applies one air mass to every component (documented in docs/physics.md).
+    d = adv.to_dict()
+    d["mie"].update(scattering_m=[0.0] * 3, extinction_m=[0.0] * 3)
+    d["absorption"] = []
+    gas = type(adv).from_dict(d)
+    assert np.all(ground_sun_transmittance(gas, 0.0) < ground_sun_transmittance(gas.replace(air_mass="geometric"), 0.0))
+    assert np.all(pick[2] > straight[2])
+
+
 # Vertical optical depths of the shipped presets, as documented in docs/physics.md (4 digits).
 DOCUMENTED_TAU = {
     "earth": [0.0564, 0.1315, 0.2511],

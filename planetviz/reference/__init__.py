@@ -9,8 +9,8 @@
   standard error.
 """
 from .montecarlo import ReferenceResult, solve
-from .optical_depth import optical_depth, sun_transmittance, view_transmittance
+from .optical_depth import ground_sun_transmittance, optical_depth, sun_transmittance, view_transmittance
 from .single import single_scattering
 
-__all__ = ["ReferenceResult", "optical_depth", "single_scattering", "solve",
+__all__ = ["ReferenceResult", "ground_sun_transmittance", "optical_depth", "single_scattering", "solve",
            "sun_transmittance", "view_transmittance"]

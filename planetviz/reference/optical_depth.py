@@ -86,3 +86,22 @@ def view_transmittance(atm, camera, view_dir):
     t_ground = distance_to_ground(c, v, atm.bottom_radius_m)
     tau = optical_depth(atm, c, v, np.where(np.isfinite(t_ground), t_ground, np.inf))
     return np.exp(-tau), t_ground
+
+
+def ground_sun_transmittance(atm, elevation_deg):
+    """Transmittance of the sun seen from the ground at an apparent elevation, per wavelength.
+
+    ``atm.air_mass == "geometric"``: straight ray through the shell (paper Eq. 5).
+    ``"pickering"``: exp(-tau_zenith AM(h)) with Pickering's air mass (Eq. 21), which approximates
+    the longer, refracted path near the horizon (defined for h >= 0; below the horizon the sun is
+    taken as set, T = 0).
+    """
+    from ..optics.airmass import pickering_transmittance
+    h = np.atleast_1d(np.asarray(elevation_deg, dtype=float))
+    if atm.air_mass == "pickering":
+        tau_zenith = optical_depth(atm, [[0.0, 0.0, atm.bottom_radius_m]], [[0.0, 0.0, 1.0]], np.inf)[0]
+        return np.where(h[:, None] >= 0.0, pickering_transmittance(tau_zenith, np.maximum(h, 0.0)), 0.0)
+    e = np.radians(h)
+    sun = np.stack([np.cos(e), np.zeros_like(e), np.sin(e)], axis=1)
+    ground = np.tile([0.0, 0.0, atm.bottom_radius_m], (len(h), 1))
+    return sun_transmittance(atm, ground, sun)
