@@ -1,0 +1,68 @@
+"""Radiance from the tables for arbitrary rays, read exactly as the shader reads them (paper Algorithm 1).
+
+For a camera x (moved to the top of the atmosphere when it is in space), view direction v and sun s:
+
+* rays to space:  L = S_R(r, mu, mu_s, nu) P_R(nu) + S_M(r, mu, mu_s, nu) P_M(nu)
+* rays to the ground point y at distance d (aerial perspective, Algorithm 1 line 23):
+  S(x -> y) = S(x) - T(x, y) S(y), plus the ground itself:
+  T(x, y) (a / pi) [T_sun(y) max(n . s, 0) + E_sky(y)]  (Lambertian, lit by the sun and the sky).
+
+Returns radiance (N, W) in 1/sr per unit solar irradiance and the transmittance along the view ray.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry import ray_sphere
+from .lookup import (get_irradiance, get_scattering, get_transmittance,
+                     get_transmittance_to_sun, get_transmittance_to_top_atmosphere_boundary)
+from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
+
+
+def _phased(tables, atm, r, mu, mu_s, nu, ground):
+    s_r = get_scattering(tables, tables.rayleigh, r, mu, mu_s, nu, ground)
+    s_m = get_scattering(tables, tables.mie, r, mu, mu_s, nu, ground)
+    return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu)
+
+
+def sky_radiance(tables, atm, camera, view_dir, sun_dir):
+    """(radiance (N, W), transmittance (N, W)) for unit view and sun directions."""
+    c = np.atleast_2d(np.asarray(camera, dtype=float))
+    v = np.atleast_2d(np.asarray(view_dir, dtype=float))
+    s = np.broadcast_to(np.asarray(sun_dir, dtype=float), c.shape)
+    n, W = len(c), atm.n_wavelengths
+    radiance = np.zeros((n, W))
+    trans = np.ones((n, W))
+    r = np.linalg.norm(c, axis=1)
+    # Cameras in space: move to where the ray enters the atmosphere; rays that miss see nothing.
+    t0, _ = ray_sphere(c, v, tables.top)
+    outside = r > tables.top
+    enters = ~outside | (np.isfinite(t0) & (t0 > 0))
+    x = np.where((outside & enters)[:, None], c + np.nan_to_num(t0)[:, None] * v, c)
+    r = np.where(outside & enters, tables.top, np.minimum(r, tables.top))
+    r = np.maximum(r, tables.bottom)
+    idx = np.nonzero(enters)[0]
+    x, v, s, r = x[idx], v[idx], s[idx], r[idx]
+    mu = np.clip(np.einsum("ij,ij->i", x, v) / r, -1, 1)
+    mu_s = np.clip(np.einsum("ij,ij->i", x, s) / r, -1, 1)
+    nu = np.clip(np.einsum("ij,ij->i", v, s), -1, 1)
+    ground = ray_intersects_ground(r, mu, tables.bottom)
+    out = _phased(tables, atm, r, mu, mu_s, nu, ground)
+    tr = get_transmittance_to_top_atmosphere_boundary(tables, r, mu)
+    g = np.nonzero(ground)[0]
+    if g.size:
+        d = distance_to_bottom_atmosphere_boundary(r[g], mu[g], tables.bottom)
+        r_d = np.maximum(np.sqrt(d * d + 2 * r[g] * mu[g] * d + r[g] ** 2), tables.bottom)
+        mu_d = np.clip((r[g] * mu[g] + d) / r_d, -1, 1)
+        mu_s_d = np.clip((r[g] * mu_s[g] + d * nu[g]) / r_d, -1, 1)
+        t_xy = get_transmittance(tables, r[g], mu[g], d, np.ones(g.size, bool))
+        far = _phased(tables, atm, r_d, mu_d, mu_s_d, nu[g], np.ones(g.size, bool))
+        albedo = np.asarray(atm.ground_albedo)
+        sun_ground = get_transmittance_to_sun(tables, np.full(g.size, tables.bottom), mu_s_d) \
+            * np.maximum(mu_s_d, 0.0)[:, None]
+        sky_ground = get_irradiance(tables, np.full(g.size, tables.bottom), mu_s_d)
+        out[g] = np.maximum(out[g] - t_xy * far, 0.0) + t_xy * albedo / np.pi * (sun_ground + sky_ground)
+        tr[g] = t_xy
+    radiance[idx] = out
+    trans[idx] = tr
+    return radiance, trans

@@ -1,0 +1,167 @@
+"""Mappings between the physical coordinates and texture coordinates of the tables.
+
+After Bruneton (2017, "precomputed_atmospheric_scattering", functions of the same names). Notation:
+r = distance to the planet centre, mu = cos(view zenith), mu_s = cos(sun zenith), nu = cos(view-sun);
+R_b, R_t the bottom and top radii, H = sqrt(R_t^2 - R_b^2) the distance to the top along the horizon
+from the ground, rho = sqrt(r^2 - R_b^2) the same from radius r.
+
+* Transmittance T(r, mu): x_r = rho / H; x_mu = (d - d_min) / (d_max - d_min) with d the distance to the
+  top, d_min = R_t - r, d_max = rho + H. Dense near the horizon, where T varies fastest.
+* Irradiance E(r, mu_s): x_r = (r - R_b) / (R_t - R_b), x_mu_s = (mu_s + 1) / 2.
+* Scattering S(r, mu, mu_s, nu): u_r = rho / H; u_mu in [0, 1/2) for rays that hit the ground (distance to
+  the ground, mapped so both halves meet at the horizon), [1/2, 1] for the others (distance to the top);
+  u_mu_s from the distance to the top along mu_s seen from the ground, concentrated above mu_s_min;
+  u_nu = (nu + 1) / 2. mu_s_min = cos(108 deg) keeps twilight down to 18 deg below the horizon.
+
+Texture coordinates put texel centres at (i + 1/2) / n (``texcoord_from_unit_range``), as OpenGL does.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: Sun zenith angle covered by the tables: 108 deg (the sun 18 deg below the horizon).
+MU_S_MIN = float(np.cos(np.radians(108.0)))
+
+
+def safe_sqrt(a):
+    return np.sqrt(np.maximum(a, 0.0))
+
+
+def clamp_cosine(mu):
+    return np.clip(mu, -1.0, 1.0)
+
+
+def distance_to_top_atmosphere_boundary(r, mu, top):
+    """d >= 0 along (r, mu) to the sphere of radius ``top``, for r <= top."""
+    disc = r * r * (mu * mu - 1.0) + top * top
+    return np.maximum(-r * mu + safe_sqrt(disc), 0.0)
+
+
+def distance_to_bottom_atmosphere_boundary(r, mu, bottom):
+    disc = r * r * (mu * mu - 1.0) + bottom * bottom
+    return np.maximum(-r * mu - safe_sqrt(disc), 0.0)
+
+
+def ray_intersects_ground(r, mu, bottom):
+    return (mu < 0.0) & (r * r * (mu * mu - 1.0) + bottom * bottom >= 0.0)
+
+
+def texcoord_from_unit_range(x, n):
+    return 0.5 / n + x * (1.0 - 1.0 / n)
+
+
+def unit_range_from_texcoord(u, n):
+    return (u - 0.5 / n) / (1.0 - 1.0 / n)
+
+
+# ------------------------------------------------------------------ transmittance
+def transmittance_uv_from_r_mu(r, mu, bottom, top, size):
+    """(u, v) texture coordinates of T(r, mu); ``size`` = (width along mu, height along r)."""
+    h = np.sqrt(top * top - bottom * bottom)
+    rho = safe_sqrt(r * r - bottom * bottom)
+    d = distance_to_top_atmosphere_boundary(r, mu, top)
+    d_min = top - r
+    d_max = rho + h
+    x_mu = np.where(d_max > d_min, (d - d_min) / np.where(d_max > d_min, d_max - d_min, 1.0), 0.0)
+    x_r = rho / h
+    return texcoord_from_unit_range(x_mu, size[0]), texcoord_from_unit_range(x_r, size[1])
+
+
+def r_mu_from_transmittance_uv(u, v, bottom, top, size):
+    x_mu = unit_range_from_texcoord(u, size[0])
+    x_r = unit_range_from_texcoord(v, size[1])
+    h = np.sqrt(top * top - bottom * bottom)
+    rho = h * x_r
+    r = np.sqrt(rho * rho + bottom * bottom)
+    d_min = top - r
+    d_max = rho + h
+    d = d_min + x_mu * (d_max - d_min)
+    mu = np.where(d == 0.0, 1.0, (h * h - rho * rho - d * d) / np.where(d == 0.0, 1.0, 2.0 * r * d))
+    return r, clamp_cosine(mu)
+
+
+# ------------------------------------------------------------------- irradiance
+def irradiance_uv_from_r_mu_s(r, mu_s, bottom, top, size):
+    x_r = (r - bottom) / (top - bottom)
+    x_mu_s = mu_s * 0.5 + 0.5
+    return texcoord_from_unit_range(x_mu_s, size[0]), texcoord_from_unit_range(x_r, size[1])
+
+
+def r_mu_s_from_irradiance_uv(u, v, bottom, top, size):
+    x_mu_s = unit_range_from_texcoord(u, size[0])
+    x_r = unit_range_from_texcoord(v, size[1])
+    return bottom + x_r * (top - bottom), clamp_cosine(2.0 * x_mu_s - 1.0)
+
+
+# ------------------------------------------------------------------- scattering
+def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, top, size):
+    """(u_nu, u_mu_s, u_mu, u_r) of S; ``size`` = (n_nu, n_mu_s, n_mu, n_r)."""
+    n_nu, n_mu_s, n_mu, n_r = size
+    h = np.sqrt(top * top - bottom * bottom)
+    rho = safe_sqrt(r * r - bottom * bottom)
+    u_r = texcoord_from_unit_range(rho / h, n_r)
+    r_mu = r * mu
+    disc = r_mu * r_mu - r * r + bottom * bottom
+    # Ground rays: distance to the ground, from r - R_b (looking down) to rho (the horizon).
+    d_g = -r_mu - safe_sqrt(disc)
+    dmin_g, dmax_g = r - bottom, rho
+    span_g = dmax_g - dmin_g
+    x_g = np.where(span_g > 0, (d_g - dmin_g) / np.where(span_g > 0, span_g, 1.0), 0.0)
+    u_mu_g = 0.5 - 0.5 * texcoord_from_unit_range(x_g, n_mu // 2)
+    # Sky rays: distance to the top, from R_t - r (looking up) to rho + H (the horizon).
+    d_s = -r_mu + safe_sqrt(disc + h * h)
+    dmin_s, dmax_s = top - r, rho + h
+    x_s = (d_s - dmin_s) / (dmax_s - dmin_s)
+    u_mu_s_half = 0.5 + 0.5 * texcoord_from_unit_range(x_s, n_mu // 2)
+    u_mu = np.where(intersects_ground, u_mu_g, u_mu_s_half)
+    u_mu_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
+    u_nu = (nu + 1.0) / 2.0
+    return u_nu, u_mu_s, u_mu, u_r
+
+
+def x_mu_s_from_mu_s(mu_s, bottom, top):
+    """Bruneton's non-linear sun-zenith coordinate in [0, 1] (0 at mu_s_min, 1 at the zenith)."""
+    h = np.sqrt(top * top - bottom * bottom)
+    d = distance_to_top_atmosphere_boundary(bottom, mu_s, top)
+    d_min, d_max = top - bottom, h
+    a = (d - d_min) / (d_max - d_min)
+    big_d = distance_to_top_atmosphere_boundary(bottom, MU_S_MIN, top)
+    big_a = (big_d - d_min) / (d_max - d_min)
+    return np.maximum(1.0 - a / big_a, 0.0) / (1.0 + a)
+
+
+def mu_s_from_x_mu_s(x, bottom, top):
+    h = np.sqrt(top * top - bottom * bottom)
+    d_min, d_max = top - bottom, h
+    big_d = distance_to_top_atmosphere_boundary(bottom, MU_S_MIN, top)
+    big_a = (big_d - d_min) / (d_max - d_min)
+    a = (big_a - x * big_a) / (1.0 + x * big_a)
+    d = d_min + np.minimum(a, big_a) * (d_max - d_min)
+    mu_s = np.where(d == 0.0, 1.0, (h * h - d * d) / np.where(d == 0.0, 1.0, 2.0 * bottom * d))
+    return clamp_cosine(mu_s)
+
+
+def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size):
+    """Inverse of :func:`scattering_uvwz_from_r_mu_mu_s_nu`; also returns ``intersects_ground``.
+
+    nu is clamped to the range that (mu, mu_s) allow: mu mu_s +- sqrt((1 - mu^2)(1 - mu_s^2)).
+    """
+    n_nu, n_mu_s, n_mu, n_r = size
+    h = np.sqrt(top * top - bottom * bottom)
+    rho = h * unit_range_from_texcoord(u_r, n_r)
+    r = np.sqrt(rho * rho + bottom * bottom)
+    ground = u_mu < 0.5
+    # ground half
+    dmin_g, dmax_g = r - bottom, rho
+    d_g = dmin_g + (dmax_g - dmin_g) * unit_range_from_texcoord(1.0 - 2.0 * u_mu, n_mu // 2)
+    mu_g = np.where(d_g == 0.0, -1.0, -(rho * rho + d_g * d_g) / np.where(d_g == 0.0, 1.0, 2.0 * r * d_g))
+    # sky half
+    dmin_s, dmax_s = top - r, rho + h
+    d_s = dmin_s + (dmax_s - dmin_s) * unit_range_from_texcoord(2.0 * u_mu - 1.0, n_mu // 2)
+    mu_sky = np.where(d_s == 0.0, 1.0, (h * h - rho * rho - d_s * d_s) / np.where(d_s == 0.0, 1.0, 2.0 * r * d_s))
+    mu = clamp_cosine(np.where(ground, mu_g, mu_sky))
+    mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(u_mu_s, n_mu_s), bottom, top)
+    nu = clamp_cosine(u_nu * 2.0 - 1.0)
+    root = safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s))
+    nu = np.clip(nu, mu * mu_s - root, mu * mu_s + root)
+    return r, mu, mu_s, nu, ground

@@ -1,0 +1,153 @@
+"""The precomputed tables: transmittance, irradiance and in-scattering (Bruneton and Neyret, paper Sect. 5.1).
+
+Stages (each a function of the atmosphere and the table sizes):
+
+1. ``transmittance``  T(r, mu) = exp(-int_0^d beta_ext dt) to the top (Eq. 5), Gauss-Legendre quadrature
+   split at the ray's closest approach to the centre, nodes clustered there (t = t_c +- span u^2).
+2. ``direct_irradiance``  E_0(r, mu_s) = T_sun(r, mu_s) max(mu_s, 0) (point sun).
+3. ``single_scattering``  S_R,1 and S_M,1 (r, mu, mu_s, nu) = int_0^d beta_i^scat(h_t) T(x, x_t) T_sun(x_t) dt,
+   kept apart and without phase (applied at render time, Mie per wavelength with its DHG). The view
+   transmittance and density depend on (r, mu, t) only; only T_sun(r_t, mu_s,t) with
+   mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
+
+Radiance is per unit solar irradiance; tables are float32, arrays laid out as the 2D/3D textures:
+transmittance (n_r, n_mu, W), irradiance (n_r, n_mu_s, W), scattering (n_r, n_mu, n_nu * n_mu_s, W).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .lookup import get_transmittance, get_transmittance_to_sun
+from .parameterization import (distance_to_bottom_atmosphere_boundary,
+                               distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv,
+                               r_mu_mu_s_nu_from_scattering_uvwz, r_mu_s_from_irradiance_uv)
+
+
+@dataclass(frozen=True)
+class TableSizes:
+    """Table resolutions and sample counts (see ``QUALITY`` for the named levels)."""
+
+    transmittance: tuple = (256, 64)          # (n_mu, n_r)
+    irradiance: tuple = (64, 16)              # (n_mu_s, n_r)
+    scattering: tuple = (8, 32, 128, 32)      # (n_nu, n_mu_s, n_mu, n_r)
+    transmittance_samples: int = 32           # Gauss-Legendre nodes per side of the closest approach
+    scattering_samples: int = 16              # per side of the closest approach, single scattering
+
+
+@dataclass
+class Tables:
+    """Everything the renderer samples, for one atmosphere."""
+
+    bottom: float
+    top: float
+    sizes: TableSizes
+    transmittance: np.ndarray
+    irradiance: np.ndarray
+    rayleigh: np.ndarray
+    mie: np.ndarray
+    timings: dict = field(default_factory=dict)
+    orders: int = 1
+
+    @property
+    def nbytes(self) -> int:
+        return sum(a.nbytes for a in (self.transmittance, self.irradiance, self.rayleigh, self.mie))
+
+
+def _texel_centres(n):
+    return (np.arange(n) + 0.5) / n
+
+
+def ray_nodes(r, mu, d, n):
+    """Quadrature nodes t (..., 2n) and weights on [0, d] along (r, mu), clustered at the closest approach."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    u, wu = 0.5 * (x + 1.0), 0.5 * w
+    tc = np.clip(-r * mu, 0.0, d)[..., None]
+    before = tc - tc * u * u                      # t from t_c down to 0
+    after = tc + (d[..., None] - tc) * u * u      # t from t_c up to d
+    wb = 2.0 * tc * u * wu
+    wa = 2.0 * (d[..., None] - tc) * u * wu
+    return np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
+
+
+def _altitude(r, mu, t, bottom):
+    return np.sqrt(np.maximum(t * t + 2.0 * r * mu * t + r * r, 0.0)) - bottom
+
+
+def transmittance(atm, sizes: TableSizes) -> np.ndarray:
+    """T(r, mu) to the top of the atmosphere, shape (n_r, n_mu, W)."""
+    n_mu, n_r = sizes.transmittance
+    u, v = np.meshgrid(_texel_centres(n_mu), _texel_centres(n_r))
+    r, mu = r_mu_from_transmittance_uv(u, v, atm.bottom_radius_m, atm.top_radius_m, (n_mu, n_r))
+    d = distance_to_top_atmosphere_boundary(r, mu, atm.top_radius_m)
+    t, w = ray_nodes(r, mu, d, sizes.transmittance_samples)
+    ext = atm.extinction(_altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
+    return np.exp(-np.einsum("...k,...kw->...w", w, ext))
+
+
+def direct_irradiance(tables: Tables, atm) -> np.ndarray:
+    """E_0(r, mu_s) = T_sun max(mu_s, 0) on the irradiance grid, (n_r, n_mu_s, W)."""
+    n_mu_s, n_r = tables.sizes.irradiance
+    u, v = np.meshgrid(_texel_centres(n_mu_s), _texel_centres(n_r))
+    r, mu_s = r_mu_s_from_irradiance_uv(u, v, tables.bottom, tables.top, (n_mu_s, n_r))
+    return get_transmittance_to_sun(tables, r, mu_s) * np.maximum(mu_s, 0.0)[..., None]
+
+
+def scattering_grid(tables: Tables):
+    """(r, mu, mu_s, nu, intersects_ground) at the texel centres, each (n_r, n_mu, n_nu, n_mu_s)."""
+    n_nu, n_mu_s, n_mu, n_r = tables.sizes.scattering
+    u_r = _texel_centres(n_r)[:, None, None, None]
+    u_mu = _texel_centres(n_mu)[None, :, None, None]
+    u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
+    u_mu_s = _texel_centres(n_mu_s)[None, None, None, :]
+    shape = (n_r, n_mu, n_nu, n_mu_s)
+    out = r_mu_mu_s_nu_from_scattering_uvwz(*(np.broadcast_to(a, shape) for a in (u_nu, u_mu_s, u_mu, u_r)),
+                                            tables.bottom, tables.top, tables.sizes.scattering)
+    return out
+
+
+def single_scattering(tables: Tables, atm):
+    """(S_R,1, S_M,1), each (n_r, n_mu, n_nu * n_mu_s, W): in-scattered radiance without phase."""
+    r, mu, mu_s, nu, ground = scattering_grid(tables)
+    n_r, n_mu, n_nu, n_mu_s = r.shape
+    W = atm.n_wavelengths
+    out_r = np.empty((n_r, n_mu, n_nu, n_mu_s, W))
+    out_m = np.empty_like(out_r)
+    beta_r = np.asarray(atm.rayleigh.scattering_m)
+    beta_m = np.asarray(atm.mie.scattering_m)
+    for i in range(n_r):
+        ri, mui, gi = r[i, :, 0, 0], mu[i, :, 0, 0], ground[i, :, 0, 0]        # per mu
+        d = np.where(gi, distance_to_bottom_atmosphere_boundary(ri, mui, tables.bottom),
+                     distance_to_top_atmosphere_boundary(ri, mui, tables.top))
+        t, w = ray_nodes(ri, mui, d, tables.sizes.scattering_samples)         # (n_mu, K)
+        h = _altitude(ri[:, None], mui[:, None], t, tables.bottom)
+        view = get_transmittance(tables, ri[:, None], mui[:, None], t, gi[:, None])   # (n_mu, K, W)
+        dens_r = atm.rayleigh.profile.density(h)[..., None] * beta_r
+        dens_m = atm.mie.profile.density(h)[..., None] * beta_m
+        r_t = np.sqrt(np.maximum(t * t + 2 * ri[:, None] * mui[:, None] * t + ri[:, None] ** 2, 0.0))
+        mus_i, nu_i = mu_s[i], nu[i]                                           # (n_mu, n_nu, n_mu_s)
+        mu_s_t = np.clip((ri[:, None, None, None] * mus_i[..., None] + t[:, None, None, :] * nu_i[..., None])
+                         / r_t[:, None, None, :], -1.0, 1.0)                   # (n_mu, n_nu, n_mu_s, K)
+        sun = get_transmittance_to_sun(tables, np.broadcast_to(r_t[:, None, None, :], mu_s_t.shape), mu_s_t)
+        wr = (w[..., None] * view * dens_r)[:, None, None]                     # (n_mu, 1, 1, K, W)
+        wm = (w[..., None] * view * dens_m)[:, None, None]
+        out_r[i] = np.einsum("anskw,anskw->answ", np.broadcast_to(wr, sun.shape), sun)
+        out_m[i] = np.einsum("anskw,anskw->answ", np.broadcast_to(wm, sun.shape), sun)
+    shape = (n_r, n_mu, n_nu * n_mu_s, W)
+    return out_r.reshape(shape), out_m.reshape(shape)
+
+
+def precompute_single(atm, sizes: TableSizes = TableSizes()) -> Tables:
+    """Transmittance, direct irradiance (used only as the source of the next stages) and single scattering."""
+    import time
+    t0 = time.perf_counter()
+    tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, transmittance(atm, sizes).astype(np.float32),
+                    np.zeros(sizes.irradiance[::-1] + (atm.n_wavelengths,), np.float32),
+                    np.empty(0), np.empty(0))
+    t1 = time.perf_counter()
+    s_r, s_m = single_scattering(tables, atm)
+    tables.rayleigh, tables.mie = s_r.astype(np.float32), s_m.astype(np.float32)
+    t2 = time.perf_counter()
+    tables.timings = {"transmittance": t1 - t0, "single_scattering": t2 - t1}
+    return tables

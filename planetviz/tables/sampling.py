@@ -1,0 +1,42 @@
+"""Texture sampling as OpenGL does it (GL_LINEAR, CLAMP_TO_EDGE), so NumPy and GLSL read the same values.
+
+A texture coordinate u in [0, 1] over n texels has its texel centres at (i + 1/2) / n; a lookup blends
+the two nearest centres linearly, clamping indices at the edges.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def _axis(u, n):
+    s = np.asarray(u, dtype=float) * n - 0.5
+    i0 = np.floor(s)
+    f = s - i0
+    i0 = i0.astype(np.int64)
+    return np.clip(i0, 0, n - 1), np.clip(i0 + 1, 0, n - 1), f
+
+
+def texture2d(table, u, v):
+    """Bilinear lookup of ``table`` (height n_v, width n_u, channels) at (u, v); returns (..., channels)."""
+    nv, nu = table.shape[:2]
+    u0, u1, fu = _axis(u, nu)
+    v0, v1, fv = _axis(v, nv)
+    fu, fv = fu[..., None], fv[..., None]
+    top = table[v0, u0] * (1 - fu) + table[v0, u1] * fu
+    bottom = table[v1, u0] * (1 - fu) + table[v1, u1] * fu
+    return top * (1 - fv) + bottom * fv
+
+
+def texture3d(table, u, v, w):
+    """Trilinear lookup of ``table`` (depth n_w, height n_v, width n_u, channels) at (u, v, w)."""
+    nw, nv, nu = table.shape[:3]
+    u0, u1, fu = _axis(u, nu)
+    v0, v1, fv = _axis(v, nv)
+    w0, w1, fw = _axis(w, nw)
+    fu, fv, fw = fu[..., None], fv[..., None], fw[..., None]
+
+    def plane(wi):
+        a = table[wi, v0, u0] * (1 - fu) + table[wi, v0, u1] * fu
+        b = table[wi, v1, u0] * (1 - fu) + table[wi, v1, u1] * fu
+        return a * (1 - fv) + b * fv
+    return plane(w0) * (1 - fw) + plane(w1) * fw
