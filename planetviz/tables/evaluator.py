@@ -22,7 +22,8 @@ from .parameterization import distance_to_bottom_atmosphere_boundary, ray_inters
 def _phased(tables, atm, r, mu, mu_s, nu, ground):
     s_r = get_scattering(tables, tables.rayleigh, r, mu, mu_s, nu, ground)
     s_m = get_scattering(tables, tables.mie, r, mu, mu_s, nu, ground)
-    return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu)
+    s_ms = get_scattering(tables, tables.multiple, r, mu, mu_s, nu, ground)
+    return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu) + s_ms
 
 
 def sky_radiance(tables, atm, camera, view_dir, sun_dir):

@@ -9,7 +9,8 @@ import numpy as np
 from .parameterization import (distance_to_bottom_atmosphere_boundary, irradiance_uv_from_r_mu_s,
                                ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu,
                                transmittance_uv_from_r_mu)
-from .sampling import texture2d, texture3d
+from .sampling import _axis as _texel_axis
+from .sampling import texture2d
 
 
 def get_transmittance_to_top_atmosphere_boundary(t, r, mu):
@@ -20,16 +21,18 @@ def get_transmittance_to_top_atmosphere_boundary(t, r, mu):
 
 
 def get_transmittance(t, r, mu, d, intersects_ground):
-    """T between (r, mu) and the point at distance d along the ray (Bruneton's ratio of two lookups)."""
+    """T between (r, mu) and the point at distance d along the ray (Bruneton's ratio of two lookups).
+
+    Rays that hit the ground use the reversed ray, T(r_d, -mu_d) / T(r, -mu), so that neither lookup
+    crosses the horizon; the others T(r, mu) / T(r_d, mu_d).
+    """
     r_d = np.sqrt(np.maximum(d * d + 2.0 * r * mu * d + r * r, 0.0))
     r_d = np.clip(r_d, t.bottom, t.top)
     mu_d = np.clip((r * mu + d) / r_d, -1.0, 1.0)
-    g = np.asarray(intersects_ground)[..., None]
-    down = (get_transmittance_to_top_atmosphere_boundary(t, r_d, -mu_d)
-            / np.maximum(get_transmittance_to_top_atmosphere_boundary(t, r, -mu), 1e-30))
-    up = (get_transmittance_to_top_atmosphere_boundary(t, r, mu)
-          / np.maximum(get_transmittance_to_top_atmosphere_boundary(t, r_d, mu_d), 1e-30))
-    return np.minimum(np.where(g, down, up), 1.0)
+    g = np.asarray(intersects_ground)
+    num = get_transmittance_to_top_atmosphere_boundary(t, np.where(g, r_d, r), np.where(g, -mu_d, mu))
+    den = get_transmittance_to_top_atmosphere_boundary(t, np.where(g, r, r_d), np.where(g, -mu, mu_d))
+    return np.minimum(num / np.maximum(den, 1e-30), 1.0)
 
 
 def get_transmittance_to_sun(t, r, mu_s):
@@ -38,28 +41,50 @@ def get_transmittance_to_sun(t, r, mu_s):
     return np.where(shadow[..., None], 0.0, get_transmittance_to_top_atmosphere_boundary(t, r, mu_s))
 
 
-def get_irradiance(t, r, mu_s):
-    """Indirect (sky) irradiance E(r, mu_s) per unit solar irradiance."""
-    n_r, n_mu_s = t.irradiance.shape[:2]
+def get_irradiance(t, r, mu_s, table=None):
+    """Indirect (sky) irradiance E(r, mu_s) per unit solar irradiance (``table``: default t.irradiance)."""
+    table = t.irradiance if table is None else table
+    n_r, n_mu_s = table.shape[:2]
     u, v = irradiance_uv_from_r_mu_s(r, mu_s, t.bottom, t.top, (n_mu_s, n_r))
-    return texture2d(t.irradiance, u, v)
+    return texture2d(table, u, v)
 
 
-def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
-    """A 4D table read as the shader does: two trilinear fetches blended along nu."""
-    n_r, n_mu, n_x = table.shape[:3]
-    n_nu = t.sizes.scattering[0]
-    n_mu_s = n_x // n_nu
+def scattering_stencil(t, shape, r, mu, mu_s, nu, intersects_ground):
+    """Flat texel indices (..., 16) and weights (..., 16) of a 4D lookup in a table of ``shape``
+    (n_r, n_mu, n_nu, n_mu_s): two trilinear fetches of the 3D texture (n_r, n_mu, n_nu * n_mu_s)
+    blended along nu, exactly as the shader's two texture() calls and mix()."""
+    n_r, n_mu, n_nu, n_mu_s = shape
     u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
                                                                 t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r))
     coord = u_nu * (n_nu - 1)
-    tex_nu = np.clip(np.floor(coord), 0, n_nu - 2 if n_nu > 1 else 0)
-    lerp = (coord - tex_nu)[..., None]
-    a = texture3d(table, (tex_nu + u_mu_s) / n_nu, u_mu, u_r)
-    if n_nu == 1:
-        return a
-    b = texture3d(table, (tex_nu + 1 + u_mu_s) / n_nu, u_mu, u_r)
-    return a * (1.0 - lerp) + b * lerp
+    tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
+    lerp = coord - tex_nu
+    n_x = n_nu * n_mu_s
+    idx, wts = [], []
+    for dn, wn in ((0, 1.0 - lerp), (1, lerp)):
+        if n_nu == 1 and dn == 1:
+            continue
+        x = (tex_nu + dn + u_mu_s) / n_nu
+        (i0, i1, fx), (j0, j1, fy), (k0, k1, fz) = (_texel_axis(x, n_x), _texel_axis(u_mu, n_mu),
+                                                    _texel_axis(u_r, n_r))
+        for kk, wz in ((k0, 1 - fz), (k1, fz)):
+            for jj, wy in ((j0, 1 - fy), (j1, fy)):
+                for ii, wx in ((i0, 1 - fx), (i1, fx)):
+                    idx.append((kk * n_mu + jj) * n_x + ii)
+                    wts.append(wn * wz * wy * wx)
+    return np.stack(idx, -1), np.stack(wts, -1).astype(np.float32)
+
+
+def apply_stencil(table, idx, wts):
+    """sum_c table[idx_c] w_c for a table (n_r, n_mu, n_nu, n_mu_s, W); returns (..., W)."""
+    flat = table.reshape(-1, table.shape[-1])
+    return np.einsum("...c,...cw->...w", wts, flat[idx])
+
+
+def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
+    """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) read as the shader reads its 3D texture
+    (n_r, n_mu, n_nu * n_mu_s): two trilinear fetches blended along nu."""
+    return apply_stencil(table, *scattering_stencil(t, table.shape[:4], r, mu, mu_s, nu, intersects_ground))
 
 
 def distance_to_ground(t, r, mu):

@@ -10,8 +10,9 @@ Stages (each a function of the atmosphere and the table sizes):
    transmittance and density depend on (r, mu, t) only; only T_sun(r_t, mu_s,t) with
    mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
 
-Radiance is per unit solar irradiance; tables are float32, arrays laid out as the 2D/3D textures:
-transmittance (n_r, n_mu, W), irradiance (n_r, n_mu_s, W), scattering (n_r, n_mu, n_nu * n_mu_s, W).
+Radiance is per unit solar irradiance; tables are float32: transmittance (n_r, n_mu, W), irradiance
+(n_r, n_mu_s, W), scattering (n_r, n_mu, n_nu, n_mu_s, W), which is the 3D texture (n_r, n_mu,
+n_nu * n_mu_s) the shader samples.
 """
 from __future__ import annotations
 
@@ -34,6 +35,10 @@ class TableSizes:
     scattering: tuple = (8, 32, 128, 32)      # (n_nu, n_mu_s, n_mu, n_r)
     transmittance_samples: int = 32           # Gauss-Legendre nodes per side of the closest approach
     scattering_samples: int = 16              # per side of the closest approach, single scattering
+    multiple: tuple = (4, 32, 64, 16)         # (n_nu, n_mu_s, n_mu, n_r) of the multiple-scattering table
+    multiple_samples: int = 8                 # per side, integrating the scattering density
+    directions: tuple = (16, 16)              # (cos theta, azimuth over [0, pi]) quadrature of J
+    tolerance: float = 1e-3                   # stop adding orders below this share of the total
 
 
 @dataclass
@@ -47,12 +52,14 @@ class Tables:
     irradiance: np.ndarray
     rayleigh: np.ndarray
     mie: np.ndarray
+    multiple: np.ndarray | None = None
     timings: dict = field(default_factory=dict)
     orders: int = 1
 
     @property
     def nbytes(self) -> int:
-        return sum(a.nbytes for a in (self.transmittance, self.irradiance, self.rayleigh, self.mie))
+        tables = (self.transmittance, self.irradiance, self.rayleigh, self.mie, self.multiple)
+        return sum(a.nbytes for a in tables if a is not None)
 
 
 def _texel_centres(n):
@@ -94,21 +101,22 @@ def direct_irradiance(tables: Tables, atm) -> np.ndarray:
     return get_transmittance_to_sun(tables, r, mu_s) * np.maximum(mu_s, 0.0)[..., None]
 
 
-def scattering_grid(tables: Tables):
+def scattering_grid(tables: Tables, size=None):
     """(r, mu, mu_s, nu, intersects_ground) at the texel centres, each (n_r, n_mu, n_nu, n_mu_s)."""
-    n_nu, n_mu_s, n_mu, n_r = tables.sizes.scattering
+    size = tables.sizes.scattering if size is None else size
+    n_nu, n_mu_s, n_mu, n_r = size
     u_r = _texel_centres(n_r)[:, None, None, None]
     u_mu = _texel_centres(n_mu)[None, :, None, None]
     u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
     u_mu_s = _texel_centres(n_mu_s)[None, None, None, :]
     shape = (n_r, n_mu, n_nu, n_mu_s)
     out = r_mu_mu_s_nu_from_scattering_uvwz(*(np.broadcast_to(a, shape) for a in (u_nu, u_mu_s, u_mu, u_r)),
-                                            tables.bottom, tables.top, tables.sizes.scattering)
+                                            tables.bottom, tables.top, size)
     return out
 
 
 def single_scattering(tables: Tables, atm):
-    """(S_R,1, S_M,1), each (n_r, n_mu, n_nu * n_mu_s, W): in-scattered radiance without phase."""
+    """(S_R,1, S_M,1), each (n_r, n_mu, n_nu, n_mu_s, W): in-scattered radiance without phase."""
     r, mu, mu_s, nu, ground = scattering_grid(tables)
     n_r, n_mu, n_nu, n_mu_s = r.shape
     W = atm.n_wavelengths
@@ -134,20 +142,28 @@ def single_scattering(tables: Tables, atm):
         wm = (w[..., None] * view * dens_m)[:, None, None]
         out_r[i] = np.einsum("anskw,anskw->answ", np.broadcast_to(wr, sun.shape), sun)
         out_m[i] = np.einsum("anskw,anskw->answ", np.broadcast_to(wm, sun.shape), sun)
-    shape = (n_r, n_mu, n_nu * n_mu_s, W)
-    return out_r.reshape(shape), out_m.reshape(shape)
+    return out_r, out_m
 
 
-def precompute_single(atm, sizes: TableSizes = TableSizes()) -> Tables:
-    """Transmittance, direct irradiance (used only as the source of the next stages) and single scattering."""
+def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True) -> Tables:
+    """All tables for ``atm``: transmittance, single scattering, and (``multiple``) every order above."""
     import time
-    t0 = time.perf_counter()
+    from .multiple import multiple_scattering
+    clock = time.perf_counter
+    t0 = clock()
+    W = atm.n_wavelengths
     tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, transmittance(atm, sizes).astype(np.float32),
-                    np.zeros(sizes.irradiance[::-1] + (atm.n_wavelengths,), np.float32),
-                    np.empty(0), np.empty(0))
-    t1 = time.perf_counter()
+                    np.zeros(sizes.irradiance[::-1] + (W,), np.float32), np.empty(0), np.empty(0))
+    t1 = clock()
     s_r, s_m = single_scattering(tables, atm)
     tables.rayleigh, tables.mie = s_r.astype(np.float32), s_m.astype(np.float32)
-    t2 = time.perf_counter()
+    t2 = clock()
     tables.timings = {"transmittance": t1 - t0, "single_scattering": t2 - t1}
+    n_nu, n_mu_s, n_mu, n_r = sizes.multiple
+    tables.multiple = np.zeros((n_r, n_mu, n_nu, n_mu_s, W), np.float32)
+    if multiple:
+        ms, irr, orders = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
+                                              samples=sizes.multiple_samples, tolerance=sizes.tolerance)
+        tables.multiple, tables.irradiance, tables.orders = ms.astype(np.float32), irr.astype(np.float32), orders
+        tables.timings["multiple_scattering"] = clock() - t2
     return tables

@@ -1,0 +1,187 @@
+"""Multiple scattering, order by order (paper Eq. 8; Bruneton and Neyret Sect. 4), in NumPy.
+
+For order n >= 2, on the grid of the multiple-scattering table (coarser than the single-scattering one):
+
+1. incident radiance L_{n-1}(r, mu_s; w) on a direction quadrature w (Gauss-Legendre in cos(theta) on
+   each side of the horizontal, midpoint rule in azimuth over [0, pi], mirrored by the symmetry about
+   the sun's vertical plane): the order n-1 sky radiance from the tables, plus for directions that hit
+   the ground T(x, y) (a / pi) E_{n-2}(y) (E_0 = the sun's direct irradiance);
+2. scattering density J_n(r, mu, mu_s, nu) = sum_w [beta_R(r) P_R(w . v) + beta_M(r) P_M(w . v)] L_{n-1}(w) dw,
+   tabulated per unit density of each component (J_R / rho_R, J_M / rho_M: the densities are exponential
+   in altitude and would be overestimated by linear interpolation between r texels a scale height
+   apart; they are applied exactly at the integration nodes of step 4):
+   the Rayleigh-like part (a + b (w . v)^2) from the zeroth and second angular moments of L, which the
+   quadrature integrates exactly; the Mie part from a kernel renormalised so that it integrates P_M to 1
+   per texel (a coarse direction set cannot resolve a forward peak: renormalising keeps energy right);
+3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only);
+4. S_n(r, mu, mu_s, nu) = int_0^d T(x, x_t) J_n(r_t, mu_t, mu_s,t, nu) dt (J read from its table).
+
+S_n is radiance (phase included) and accumulates into one table; E into the irradiance table. Orders
+stop when the tail estimated from the ratio q of the last two orders, S_n q / (1 - q), is below
+``tolerance`` of the total (both for scattering and irradiance), or at ``max_orders``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .lookup import (apply_stencil, get_irradiance, get_scattering, get_transmittance,
+                     get_transmittance_to_sun, scattering_stencil)
+from .parameterization import (distance_to_bottom_atmosphere_boundary,
+                               distance_to_top_atmosphere_boundary, ray_intersects_ground,
+                               r_mu_s_from_irradiance_uv)
+from ..optics.phase import PENNDORF_A
+
+
+def direction_quadrature(n_theta: int, n_phi: int):
+    """Unit directions (K, 3) over azimuths [0, pi] and weights d(cos theta) d(phi); the caller mirrors
+    them (y -> -y) for the other half. Gauss-Legendre in cos(theta) on [-1, 0] and [0, 1] separately
+    (the horizon is a discontinuity), midpoint rule in azimuth (exact for trigonometric polynomials)."""
+    x, w = np.polynomial.legendre.leggauss(n_theta // 2)
+    mu = np.concatenate([0.5 * (x - 1.0), 0.5 * (x + 1.0)])
+    wm = np.concatenate([0.5 * w, 0.5 * w])
+    phi = (np.arange(n_phi) + 0.5) * np.pi / n_phi
+    mu_g, phi_g = np.meshgrid(mu, phi, indexing="ij")
+    weight = (wm[:, None] * np.full(n_phi, np.pi / n_phi)[None, :]).ravel()
+    sin = np.sqrt(np.maximum(1.0 - mu_g * mu_g, 0.0)).ravel()
+    dirs = np.stack([sin * np.cos(phi_g.ravel()), sin * np.sin(phi_g.ravel()), mu_g.ravel()], -1)
+    return dirs, weight
+
+
+class _Incident:
+    """Geometry of the incident-radiance samples at points (r, mu_s) and directions w, fixed for all orders."""
+
+    def __init__(self, tables, atm, r, mu_s, dirs, ms_shape, with_ground=True):
+        shape = np.broadcast_shapes(np.shape(r), np.shape(mu_s)) + (len(dirs),)
+        self.r = np.broadcast_to(np.asarray(r)[..., None], shape)
+        self.mu_s = np.broadcast_to(np.asarray(mu_s)[..., None], shape)
+        self.mu = np.broadcast_to(dirs[:, 2], shape)
+        self.nu = dirs[:, 0] * np.sqrt(np.maximum(1 - self.mu_s ** 2, 0.0)) + dirs[:, 2] * self.mu_s
+        self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
+        self.stencil = scattering_stencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
+        self.with_ground = with_ground and bool(np.any(self.ground))
+        if self.with_ground:
+            d = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
+            self.mu_s_g = np.clip((self.r * self.mu_s + d * self.nu) / tables.bottom, -1.0, 1.0)
+            t_g = get_transmittance(tables, self.r, self.mu, d, np.ones(shape, bool))
+            self.ground_factor = np.where(self.ground[..., None], t_g * np.asarray(atm.ground_albedo) / np.pi, 0.0)
+
+    def radiance(self, tables, atm, order, ms_prev, irr_prev):
+        """L_order (..., K, W): sky radiance of that order plus the ground lit by E_{order-1}."""
+        if order == 1:
+            sky = (get_scattering(tables, tables.rayleigh, self.r, self.mu, self.mu_s, self.nu, self.ground)
+                   * atm.rayleigh.phase_function(self.nu)[..., None]
+                   + get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground)
+                   * atm.mie.phase_function(self.nu))
+        else:
+            sky = apply_stencil(ms_prev, *self.stencil)
+        if not self.with_ground:
+            return sky
+        bottom = np.full(self.mu_s_g.shape, tables.bottom)
+        if order == 1:
+            e = get_transmittance_to_sun(tables, bottom, self.mu_s_g) * np.maximum(self.mu_s_g, 0.0)[..., None]
+        else:
+            e = get_irradiance(tables, bottom, self.mu_s_g, table=irr_prev)
+        return sky + self.ground_factor * e
+
+
+def _view_vectors(mu, mu_s, nu):
+    """View directions in the frame where z is the zenith and the sun lies in the x-z plane (x > 0)."""
+    sin_s = np.sqrt(np.maximum(1.0 - mu_s * mu_s, 0.0))
+    vx = np.where(sin_s > 1e-6, (nu - mu * mu_s) / np.maximum(sin_s, 1e-6), np.sqrt(np.maximum(1 - mu * mu, 0)))
+    vx = np.clip(vx, -1.0, 1.0)
+    vy = np.sqrt(np.maximum(1.0 - mu * mu - vx * vx, 0.0))
+    return np.stack([vx, vy, mu], -1)
+
+
+def _mie_kernels(atm, v, dirs, weights):
+    """Per wavelength, the renormalised kernel w_k [P_M(v . w_k) + P_M(v . w_k')] (..., K), float32."""
+    c1 = np.einsum("...i,ki->...k", v, dirs).astype(np.float32)
+    c2 = np.einsum("...i,ki->...k", v * np.array([1.0, -1.0, 1.0]), dirs).astype(np.float32)
+    n = 4096
+    grid = np.linspace(-1.0, 1.0, n + 1)
+    out = []
+    for w in range(atm.n_wavelengths):
+        tab = atm.mie.phase_function(grid)[:, w].astype(np.float32)
+        k = np.zeros(c1.shape, np.float32)
+        for c in (c1, c2):
+            x = (c + 1.0) * (n / 2.0)
+            i = np.clip(x.astype(np.int32), 0, n - 1)
+            f = x - i
+            k += tab[i] * (1.0 - f) + tab[i + 1] * f
+        k *= weights.astype(np.float32)
+        k /= k.sum(-1, keepdims=True)
+        out.append(k)
+    return out
+
+
+def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64):
+    """(multiple-scattering table (n_r, n_mu, n_nu, n_mu_s, W), indirect irradiance, highest order used)."""
+    from .precompute import ray_nodes, scattering_grid
+    r, mu, mu_s, nu, ground = scattering_grid(tables, size)
+    shape = r.shape
+    W = atm.n_wavelengths
+    dirs, weights = direction_quadrature(n_theta, n_phi)
+    r_axis, mu_s_axis = r[:, 0, 0, 0], mu_s[0, 0, 0, :]
+    incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], dirs, shape)
+    n_mu_s_i, n_r_i = tables.sizes.irradiance
+    u, v = np.meshgrid((np.arange(n_mu_s_i) + 0.5) / n_mu_s_i, (np.arange(n_r_i) + 0.5) / n_r_i)
+    r_irr, mu_s_irr = r_mu_s_from_irradiance_uv(u, v, tables.bottom, tables.top, (n_mu_s_i, n_r_i))
+    up = dirs[:, 2] > 0
+    sky_above = _Incident(tables, atm, r_irr, mu_s_irr, dirs[up], shape, with_ground=False)
+    cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
+
+    # Scattering density: Rayleigh-like phase (1 + A c^2) / (4 pi (1 + A / 3)) by moments, Mie by kernels.
+    a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
+    views = _view_vectors(mu, mu_s, nu)                       # (n_r, n_mu, n_nu, n_mu_s, 3)
+    full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])])
+    outer = np.einsum("ki,kj->kij", full_dirs, full_dirs)
+    vv = np.einsum("...i,...j->...ij", views, views)
+    beta_r = np.asarray(atm.rayleigh.scattering_m)
+    beta_m = np.asarray(atm.mie.scattering_m)
+    mie_kernels = _mie_kernels(atm, views, dirs, weights)
+
+    # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders.
+    d = np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, tables.bottom),
+                 distance_to_top_atmosphere_boundary(r, mu, tables.top))
+    t, wt = ray_nodes(r, mu, d, samples)
+    rr, mm, ss, nn, gg = (np.broadcast_to(a[..., None], t.shape) for a in (r, mu, mu_s, nu, ground))
+    r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * rr * mm * t + rr * rr, 0.0)), tables.bottom, tables.top)
+    mu_t = np.clip((rr * mm + t) / r_t, -1.0, 1.0)
+    mu_s_t = np.clip((rr * ss + t * nn) / r_t, -1.0, 1.0)
+    path_stencil = scattering_stencil(tables, shape, r_t, mu_t, mu_s_t, nn, gg)
+    path_weight = wt[..., None] * get_transmittance(tables, rr, mm, t, gg)
+    h_t = r_t - tables.bottom
+    dens_t = (atm.rayleigh.profile.density(h_t)[..., None], atm.mie.profile.density(h_t)[..., None])
+
+    total = np.zeros(shape + (W,))
+    irradiance = np.zeros(r_irr.shape + (W,))
+    ms_prev = irr_prev = None
+    last = None
+    order = 1
+    for order in range(2, max_orders + 1):
+        L = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev)          # (n_r, n_mu_s, K, W)
+        L_above = sky_above.radiance(tables, atm, order - 1, ms_prev, irr_prev)
+        e = np.einsum("k,abkw->abw", cos_weights, L_above)
+        L_full = np.concatenate([L, L], axis=2) * np.concatenate([weights, weights])[:, None]
+        m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
+        m2 = np.einsum("kxy,abkw->abxyw", outer, L_full)                           # (n_r, n_mu_s, 3, 3, W)
+        quad = np.einsum("abcdxy,adxyw->abcdw", vv, m2)
+        # J per unit density of each component (its angular part varies slowly with altitude; the
+        # density, which does not, is applied exactly at every integration node).
+        J = np.empty(shape + (2 * W,))
+        J[..., :W] = beta_r * (m0[:, None, None] + a_coef * quad) / (4 * np.pi * (1 + a_coef / 3))
+        for w in range(W):
+            J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w])
+        jt = apply_stencil(J, *path_stencil)
+        S = np.einsum("...kw,...kw->...w", path_weight, dens_t[0] * jt[..., :W] + dens_t[1] * jt[..., W:])
+        total += S
+        irradiance += e
+        ms_prev, irr_prev = S, e
+        size_now = S.sum()
+        if last is not None and last > 0:
+            q = min(size_now / last, 0.999)
+            if size_now * q / (1 - q) < tolerance * total.sum() and \
+                    e.sum() * q / (1 - q) < tolerance * max(irradiance.sum(), 1e-300):
+                break
+        last = size_now
+    return total, irradiance, order
