@@ -2,6 +2,7 @@
 
     planetviz sky        [--atmosphere A] [--sun-elevation DEG] [--quality Q]
     planetviz atmosphere PRESET_OR_FILE
+    planetviz precompute --atmosphere A [--quality draft|standard|high]
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
                          [--method reference|lut|fallback] [--quality draft|standard|high]
 
@@ -51,8 +52,15 @@ def _cmd_atmosphere(args) -> int:
 
 
 def _solve(atm, queries, method, quality, samples, seed):
+    if method == "lut":
+        from .reference import ReferenceResult
+        from .tables.evaluator import sky_radiance
+        from .tables.precompute import QUALITY, precompute
+        radiance, transmittance = sky_radiance(precompute(atm, QUALITY[quality]), atm, queries.camera_m,
+                                               queries.view_dir, queries.sun_dir)
+        return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, 0)
     if method != "reference":
-        raise ValueError(f"--method {method}: not available in this version; allowed: reference")
+        raise ValueError(f"--method {method}: not available in this version; allowed: reference, lut")
     from .reference import solve
     return solve(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
                  samples=samples or REFERENCE_SAMPLES[quality], seed=seed)
@@ -63,11 +71,11 @@ def _cmd_radiance(args) -> int:
     atm = load_atmosphere(args.atmosphere)
     queries = load_queries(args.queries, atm.bottom_radius_m)
     result = _solve(atm, queries, args.method, args.quality, args.samples, args.seed)
+    extra = {"radiance_stderr": result.stderr} if args.method == "reference" else {}
     np.savez(args.out, radiance=result.radiance, transmittance=result.transmittance,
-             wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float),
-             radiance_stderr=result.stderr)
-    print(f"wrote {args.out}: {len(queries.camera_m)} rays x {atm.n_wavelengths} wavelengths "
-          f"({args.method}, {result.samples} paths per ray)")
+             wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **extra)
+    how = f"{result.samples} paths per ray" if args.method == "reference" else f"{args.quality} tables"
+    print(f"wrote {args.out}: {len(queries.camera_m)} rays x {atm.n_wavelengths} wavelengths ({args.method}, {how})")
     return 0
 
 
@@ -99,6 +107,38 @@ def _cmd_sky(args) -> int:
     return 0
 
 
+class _ProgressBar:
+    """One line per stage on a terminal-less stream: 'stage [#####.....] 50%', redrawn with \r."""
+
+    def __init__(self, stream):
+        self.stream, self.stage = stream, None
+
+    def __call__(self, stage, fraction):
+        if stage != self.stage and self.stage is not None:
+            self.stream.write("\n")
+        self.stage = stage
+        filled = int(round(30 * fraction))
+        self.stream.write(f"\r{stage:<34} [{'#' * filled}{'.' * (30 - filled)}] {100 * fraction:5.1f}%")
+        self.stream.flush()
+
+
+def _cmd_precompute(args) -> int:
+    from .tables.precompute import QUALITY, precompute
+    atm = load_atmosphere(args.atmosphere)
+    bar = _ProgressBar(sys.stdout)
+    tables = precompute(atm, QUALITY[args.quality], progress=bar)
+    print()
+    for stage, seconds in tables.timings.items():
+        print(f"{stage:<22} {seconds:8.2f} s")
+    print(f"{'total':<22} {sum(tables.timings.values()):8.2f} s   ({tables.orders} scattering orders)")
+    sizes = {"transmittance": tables.transmittance, "irradiance": tables.irradiance,
+             "single Rayleigh": tables.rayleigh, "single Mie": tables.mie, "multiple": tables.multiple}
+    for name, table in sizes.items():
+        print(f"{name:<22} {str(table.shape):<26} {table.nbytes / 1e6:8.2f} MB")
+    print(f"{'table memory':<22} {tables.nbytes / 1e6:8.2f} MB (float32)")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     presets = ", ".join(PRESETS)
     parser = _Parser(prog="planetviz", description="Planets with physically based atmospheres.")
@@ -114,6 +154,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("atmosphere", help="print the derived standard-mode coefficients and optical depths")
     p.add_argument("atmosphere", metavar="PRESET_OR_FILE", help=f"preset ({presets}) or JSON file")
     p.set_defaults(func=_cmd_atmosphere)
+
+    p = sub.add_parser("precompute", help="compute the scattering tables, with timings and memory")
+    p.add_argument("--atmosphere", required=True, help=f"preset ({presets}) or JSON file")
+    p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
+    p.set_defaults(func=_cmd_precompute)
 
     p = sub.add_parser("radiance", help="radiance for a set of rays (Q.npz -> OUT.npz)")
     p.add_argument("--atmosphere", required=True, help=f"preset ({presets}) or JSON file")

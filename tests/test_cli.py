@@ -80,8 +80,8 @@ def test_missing_and_corrupt_query_files(tmp_path):
 
 def test_methods_of_later_issues_are_refused_clearly(tmp_path):
     q = write_queries(tmp_path / "q.npz", [[0, 0, R + 10]], [[0, 0, 1]], [0, 0, 1])
-    proc = run("radiance", "--atmosphere", "earth", "--queries", q, "--out", tmp_path / "o.npz", "--method", "lut")
-    assert proc.returncode == 2 and "--method lut: not available" in proc.stderr
+    proc = run("radiance", "--atmosphere", "earth", "--queries", q, "--out", tmp_path / "o.npz", "--method", "fallback")
+    assert proc.returncode == 2 and "--method fallback: not available" in proc.stderr
 
 
 def test_camera_a_millimetre_below_ground_rounds_onto_it(tmp_path):

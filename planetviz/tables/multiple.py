@@ -114,7 +114,8 @@ def _mie_kernels(atm, v, dirs, weights):
     return out
 
 
-def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64):
+def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
+                        progress=None):
     """(multiple-scattering table (n_r, n_mu, n_nu, n_mu_s, W), indirect irradiance, highest order used)."""
     from .precompute import ray_nodes, scattering_grid
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
@@ -183,5 +184,9 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
             if size_now * q / (1 - q) < tolerance * total.sum() and \
                     e.sum() * q / (1 - q) < tolerance * max(irradiance.sum(), 1e-300):
                 break
+        if progress and total.sum() > 0:
+            progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / total.sum()))
         last = size_now
+    if progress:
+        progress(f"multiple scattering, {order} orders", 1.0)
     return total, irradiance, order

@@ -33,12 +33,23 @@ class TableSizes:
     transmittance: tuple = (256, 64)          # (n_mu, n_r)
     irradiance: tuple = (64, 16)              # (n_mu_s, n_r)
     scattering: tuple = (8, 32, 128, 32)      # (n_nu, n_mu_s, n_mu, n_r)
-    transmittance_samples: int = 32           # Gauss-Legendre nodes per side of the closest approach
+    transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
     scattering_samples: int = 16              # per side of the closest approach, single scattering
     multiple: tuple = (4, 32, 64, 16)         # (n_nu, n_mu_s, n_mu, n_r) of the multiple-scattering table
     multiple_samples: int = 8                 # per side, integrating the scattering density
     directions: tuple = (16, 16)              # (cos theta, azimuth over [0, pi]) quadrature of J
     tolerance: float = 1e-3                   # stop adding orders below this share of the total
+
+
+#: Named quality levels (measured in docs/benchmarks.md: precompute time and error against the reference).
+QUALITY = {
+    "draft": TableSizes(transmittance=(128, 32), irradiance=(32, 8), scattering=(4, 16, 64, 16),
+                        transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
+                        multiple_samples=4, directions=(8, 8), tolerance=1e-2),
+    "standard": TableSizes(scattering=(8, 32, 64, 32), scattering_samples=10, multiple=(4, 32, 32, 16),
+                           multiple_samples=6, directions=(12, 12), tolerance=3e-3),
+    "high": TableSizes(),
+}
 
 
 @dataclass
@@ -115,7 +126,7 @@ def scattering_grid(tables: Tables, size=None):
     return out
 
 
-def single_scattering(tables: Tables, atm):
+def single_scattering(tables: Tables, atm, progress=None):
     """(S_R,1, S_M,1), each (n_r, n_mu, n_nu, n_mu_s, W): in-scattered radiance without phase."""
     r, mu, mu_s, nu, ground = scattering_grid(tables)
     n_r, n_mu, n_nu, n_mu_s = r.shape
@@ -125,6 +136,8 @@ def single_scattering(tables: Tables, atm):
     beta_r = np.asarray(atm.rayleigh.scattering_m)
     beta_m = np.asarray(atm.mie.scattering_m)
     for i in range(n_r):
+        if progress:
+            progress("single scattering", i / n_r)
         ri, mui, gi = r[i, :, 0, 0], mu[i, :, 0, 0], ground[i, :, 0, 0]        # per mu
         d = np.where(gi, distance_to_bottom_atmosphere_boundary(ri, mui, tables.bottom),
                      distance_to_top_atmosphere_boundary(ri, mui, tables.top))
@@ -145,8 +158,19 @@ def single_scattering(tables: Tables, atm):
     return out_r, out_m
 
 
-def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True) -> Tables:
-    """All tables for ``atm``: transmittance, single scattering, and (``multiple``) every order above."""
+def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, progress=None) -> Tables:
+    """All tables for ``atm``: transmittance, single scattering, and (``multiple``) every order above.
+
+    ``progress(stage, fraction)`` is called as the stages advance (for a progress bar).
+
+    Example
+    -------
+    >>> from planetviz import load_atmosphere
+    >>> from planetviz.tables.precompute import QUALITY, precompute
+    >>> tables = precompute(load_atmosphere("earth"), QUALITY["draft"])
+    >>> tables.orders >= 2
+    True
+    """
     import time
     from .multiple import multiple_scattering
     clock = time.perf_counter
@@ -155,15 +179,20 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True) -> 
     tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, transmittance(atm, sizes).astype(np.float32),
                     np.zeros(sizes.irradiance[::-1] + (W,), np.float32), np.empty(0), np.empty(0))
     t1 = clock()
-    s_r, s_m = single_scattering(tables, atm)
+    if progress:
+        progress("transmittance", 1.0)
+    s_r, s_m = single_scattering(tables, atm, progress)
     tables.rayleigh, tables.mie = s_r.astype(np.float32), s_m.astype(np.float32)
+    if progress:
+        progress("single scattering", 1.0)
     t2 = clock()
     tables.timings = {"transmittance": t1 - t0, "single_scattering": t2 - t1}
     n_nu, n_mu_s, n_mu, n_r = sizes.multiple
     tables.multiple = np.zeros((n_r, n_mu, n_nu, n_mu_s, W), np.float32)
     if multiple:
         ms, irr, orders = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
-                                              samples=sizes.multiple_samples, tolerance=sizes.tolerance)
+                                              samples=sizes.multiple_samples, tolerance=sizes.tolerance,
+                                              progress=progress)
         tables.multiple, tables.irradiance, tables.orders = ms.astype(np.float32), irr.astype(np.float32), orders
         tables.timings["multiple_scattering"] = clock() - t2
     return tables

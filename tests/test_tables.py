@@ -1,0 +1,184 @@
+"""The precomputed tables: mappings, texture reads, each stage against the reference, and the CLI."""
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from planetviz import load_atmosphere
+from planetviz.reference import optical_depth, single_scattering, solve
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.tables.lookup import get_scattering
+from planetviz.tables.parameterization import (MU_S_MIN, r_mu_from_transmittance_uv,
+                                               r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
+                                               scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu)
+from planetviz.tables.precompute import QUALITY, TableSizes, precompute
+from planetviz.tables.sampling import texture2d, texture3d
+
+EARTH = load_atmosphere("earth")
+B, T = EARTH.bottom_radius_m, EARTH.top_radius_m
+
+
+def random_geometry(n, seed=0):
+    rng = np.random.default_rng(seed)
+    r = B + rng.random(n) * (T - B)
+    mu = rng.uniform(-1, 1, n)
+    mu_s = rng.uniform(MU_S_MIN, 1, n)
+    root = np.sqrt((1 - mu ** 2) * (1 - mu_s ** 2))
+    nu = mu * mu_s + root * rng.uniform(-1, 1, n)
+    return r, mu, mu_s, nu, ray_intersects_ground(r, mu, B)
+
+
+def test_mappings_invert_exactly():
+    r, mu, mu_s, nu, g = random_geometry(2000)
+    size = (8, 32, 128, 32)
+    back = r_mu_mu_s_nu_from_scattering_uvwz(*scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, size),
+                                             B, T, size)
+    for a, b in zip((r, mu, mu_s, nu), back[:4]):
+        assert np.allclose(a, b, atol=1e-8, rtol=0)
+    assert np.array_equal(g, back[4])
+    rr, mm = r_mu_from_transmittance_uv(*transmittance_uv_from_r_mu(r, mu, B, T, (256, 64)), B, T, (256, 64))
+    assert np.allclose(rr, r, rtol=1e-12) and np.allclose(mm, mu, atol=1e-9)
+
+
+def test_horizon_maps_to_the_outermost_texel_centres_on_both_sides():
+    # Sky rays fill u_mu in [1/2, 1], ground rays [0, 1/2); the horizon is the far end of both halves, at
+    # the outermost texel centres, so linear filtering never blends a sky texel with a ground texel (the
+    # cause of bright or dark bands just below the horizon in other renderers).
+    n = 128
+    for h in (1.0, 1e3, 3e4):     # (at h = 0 ground rays have zero length: no ground half)
+        r = np.array([B + h])
+        mu_h = -np.sqrt(max(1 - (B / r[0]) ** 2, 0.0))
+        eps = 1e-12
+        sky = scattering_uvwz_from_r_mu_mu_s_nu(r, np.array([mu_h + eps]), 0.5, 0.0, np.array([False]), B, T, (8, 32, n, 32))[2]
+        ground = scattering_uvwz_from_r_mu_mu_s_nu(r, np.array([mu_h - eps]), 0.5, 0.0, np.array([True]), B, T, (8, 32, n, 32))[2]
+        assert abs(sky[0] - (1 - 0.5 / n)) < 1e-3 and abs(ground[0] - 0.5 / n) < 1e-3
+
+
+def test_texture_reads_are_linear_interpolation_between_texel_centres():
+    # A table holding a linear function of the texel index is read back exactly anywhere inside.
+    rng = np.random.default_rng(2)
+    i, j, k = np.meshgrid(np.arange(5), np.arange(7), np.arange(9), indexing="ij")
+    table = (2.0 * i + 3.0 * j - k)[..., None].astype(float)
+    u, v, w = rng.uniform(0.5 / 9, 1 - 0.5 / 9, 50), rng.uniform(0.5 / 7, 1 - 0.5 / 7, 50), rng.uniform(0.1, 0.9, 50)
+    expected = 2.0 * (w * 5 - 0.5) + 3.0 * (v * 7 - 0.5) - (u * 9 - 0.5)
+    assert np.allclose(texture3d(table, u, v, w)[:, 0], expected)
+    assert np.allclose(texture2d(table[0], u, v)[:, 0], 3.0 * (v * 7 - 0.5) - (u * 9 - 0.5))
+
+
+def test_scattering_lookup_is_two_trilinear_fetches_blended_along_nu():
+    rng = np.random.default_rng(4)
+    table = rng.random((6, 10, 4, 8, 2))
+    r, mu, mu_s, nu, g = random_geometry(300, seed=5)
+    t = type("T", (), {"bottom": B, "top": T})()
+    got = get_scattering(t, table, r, mu, mu_s, nu, g)
+    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, (4, 8, 10, 6))
+    c = u_nu * 3
+    i = np.clip(np.floor(c), 0, 2)
+    f = (c - i)[:, None]
+    tex = table.reshape(6, 10, 32, 2)
+    want = texture3d(tex, (i + u_mu_s) / 4, u_mu, u_r) * (1 - f) + texture3d(tex, (i + 1 + u_mu_s) / 4, u_mu, u_r) * f
+    assert np.allclose(got, want, rtol=1e-6)   # float32 weights
+
+
+@pytest.fixture(scope="module")
+def standard_single():
+    return precompute(EARTH, QUALITY["standard"], multiple=False)
+
+
+def test_transmittance_table_matches_reference_quadrature(standard_single):
+    # At the texel centres the table is the quadrature itself: against the reference's independent
+    # quadrature it agrees to 1.5e-3 relative in optical depth (measured: 1.05e-3 at worst, a short upward
+    # ray crossing the ozone tent's upper kink, 4.5e-5 median, with 64 Gauss-Legendre nodes per side); a
+    # wrong mapping or a missing component is off by far more.
+    n_r, n_mu = standard_single.transmittance.shape[:2]
+    u, v = np.meshgrid((np.arange(n_mu) + 0.5) / n_mu, (np.arange(n_r) + 0.5) / n_r)
+    r, mu = r_mu_from_transmittance_uv(u, v, B, T, (n_mu, n_r))
+    pts = np.stack([np.zeros(r.size), np.sqrt(np.maximum(1 - mu.ravel() ** 2, 0)) * r.ravel(), mu.ravel() * r.ravel()], 1)
+    dirs = np.tile([0.0, 0.0, 1.0], (r.size, 1))
+    tau = optical_depth(EARTH, pts, dirs, np.inf)
+    tau_table = -np.log(standard_single.transmittance.reshape(-1, 3).astype(float))
+    assert np.allclose(tau_table, tau, rtol=1.5e-3, atol=1e-6)
+
+
+def test_single_scattering_tables_match_deterministic_single_scattering(standard_single):
+    # Sky and ground rays from 2 m to 40000 km, sun from the zenith to 6 deg below the horizon.
+    rng = np.random.default_rng(7)
+    n = 240
+    cams = np.stack([np.zeros(n), np.zeros(n), B + np.array([2.0, 1e3, 1e4, 3e4, 1e6, 4e7])[np.arange(n) % 6]], 1)
+    views = rng.normal(size=(n, 3))
+    views /= np.linalg.norm(views, axis=1, keepdims=True)
+    el = np.radians(rng.uniform(-6, 90, n))
+    az = rng.uniform(0, 2 * np.pi, n)
+    suns = np.stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)], 1)
+    lut, _ = sky_radiance(standard_single, EARTH, cams, views, suns)
+    s, g = single_scattering(EARTH, cams, views, suns)
+    ref = s + g
+    ok = ref > 1e-5
+    rel = np.abs(lut - ref)[ok] / ref[ok]
+    # Measured: median 0.05%, p95 0.6%; bounds with margin that a wrong mapping, a missing transmittance
+    # factor or a phase applied twice (errors of 10% or more) cannot meet.
+    assert np.median(rel) < 0.003
+    assert np.percentile(rel, 95) < 0.02
+
+
+def test_orders_stop_by_themselves_more_for_a_thicker_atmosphere():
+    # Doubling every coefficient slows the decay of the orders, so more are needed for the same tolerance.
+    draft = replace(QUALITY["draft"], tolerance=1e-3)
+    d = EARTH.to_dict()
+    for key in ("rayleigh", "mie"):
+        for field in ("scattering_m", "extinction_m"):
+            if field in d[key]:
+                d[key][field] = [2 * x for x in d[key][field]]
+    thin = precompute(EARTH, draft)
+    thick = precompute(type(EARTH).from_dict(d), draft)
+    assert 2 <= thin.orders < thick.orders < 64
+
+
+THICK_DIVERGES = pytest.mark.xfail(strict=True, reason=(
+    "known defect (issue 3 note): in the 10-bar CO2 atmosphere (tau = 4 at 440 nm) the order-by-order "
+    "tables gain energy: 4-18x the reference at 440 nm after 64 orders"))
+
+
+MARS_PEAK = pytest.mark.xfail(strict=True, reason=(
+    "known defect (issue 3 note): Mars at standard quality is 16% RMS off the reference, up to -12% at "
+    "550 nm where Table 1's phase is a g = 0.89 forward lobe; cause not isolated yet"))
+
+
+@pytest.mark.parametrize("preset", ["earth", pytest.param("mars", marks=[MARS_PEAK, pytest.mark.slow]),
+                                    pytest.param("exo-co2-thick", marks=[THICK_DIVERGES, pytest.mark.slow])])
+def test_standard_tables_against_the_reference(preset):
+    # Full radiance (all orders, ground, aerial perspective) against the Monte Carlo reference for 12 rays
+    # in daylight. Bound: RMS relative error < 3%, where the reference's own standard error is ~1.5%;
+    # tables without multiple scattering miss 10-20% (Earth) or > 50% (the thick atmosphere) and fail.
+    atm = load_atmosphere(preset)
+    r = atm.bottom_radius_m
+    cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
+    views = np.array([[0, 0, 1], [0.7, 0, 0.7], [-0.7, 0, 0.7], [0, 1, 0.1], [0.3, 0.3, 0.9], [0, -1, 0.3],
+                      [1, 0, 0], [0, 1, -0.3], [0.2, 0, -1], [0, 0, -1], [0.3, 0, -1], [0, 0.17, -1]], float)
+    views /= np.linalg.norm(views, axis=1, keepdims=True)
+    sun = np.array([0.5, 0.0, 0.866])
+    tables = precompute(atm, QUALITY["standard"])
+    lut, trans = sky_radiance(tables, atm, cams, views, sun)
+    ref = solve(atm, cams, views, sun, samples=2048, seed=21)
+    rel = (lut - ref.radiance) / ref.radiance
+    assert np.sqrt(np.mean(rel ** 2)) < 0.03, rel
+    assert np.allclose(trans, ref.transmittance, rtol=2e-3)
+
+
+def test_precompute_and_lut_commands(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "planetviz", "precompute", "--atmosphere", "earth", "--quality", "draft"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    for word in ("transmittance", "single_scattering", "multiple_scattering", "table memory", "100.0%"):
+        assert word in proc.stdout
+    q = tmp_path / "q.npz"
+    np.savez(q, camera_m=[[0, 0, B + 2.0], [0, 0, 1e12]], view_dir=[[0, 0, 1.0], [0, 0, -1.0]], sun_dir=[0, 0.5, 0.866])
+    out = tmp_path / "o.npz"
+    proc = subprocess.run([sys.executable, "-m", "planetviz", "radiance", "--atmosphere", "earth", "--queries", q,
+                           "--out", out, "--method", "lut", "--quality", "draft"], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    with np.load(out) as o:
+        assert o["radiance"].shape == (2, 3) and np.all(o["radiance"] > 0)
+        assert np.all((o["transmittance"] > 0) & (o["transmittance"] < 1))
