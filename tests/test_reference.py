@@ -1,6 +1,5 @@
 """The reference solver against closed forms, deterministic quadrature and energy conservation."""
 import numpy as np
-import pytest
 
 from planetviz import load_atmosphere
 from planetviz.reference import optical_depth, single_scattering, solve

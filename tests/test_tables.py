@@ -13,8 +13,22 @@ from planetviz.tables.lookup import get_scattering
 from planetviz.tables.parameterization import (MU_S_MIN, r_mu_from_transmittance_uv,
                                                r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
                                                scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu)
-from planetviz.tables.precompute import QUALITY, TableSizes, precompute
-from planetviz.tables.sampling import texture2d, texture3d
+from planetviz.tables.precompute import QUALITY, precompute
+from planetviz.tables.sampling import _axis, texture2d
+
+
+def texture3d(table, u, v, w):
+    """Trilinear GL_LINEAR / clamp-to-edge read of (depth, height, width, channels), written out plainly:
+    the independent check of the stencils the package uses."""
+    nw, nv, nu = table.shape[:3]
+    (u0, u1, fu), (v0, v1, fv), (w0, w1, fw) = _axis(u, nu), _axis(v, nv), _axis(w, nw)
+    fu, fv, fw = fu[..., None], fv[..., None], fw[..., None]
+
+    def plane(wi):
+        a = table[wi, v0, u0] * (1 - fu) + table[wi, v0, u1] * fu
+        b = table[wi, v1, u0] * (1 - fu) + table[wi, v1, u1] * fu
+        return a * (1 - fv) + b * fv
+    return plane(w0) * (1 - fw) + plane(w1) * fw
 
 EARTH = load_atmosphere("earth")
 B, T = EARTH.bottom_radius_m, EARTH.top_radius_m

@@ -25,18 +25,3 @@ def texture2d(table, u, v):
     top = table[v0, u0] * (1 - fu) + table[v0, u1] * fu
     bottom = table[v1, u0] * (1 - fu) + table[v1, u1] * fu
     return top * (1 - fv) + bottom * fv
-
-
-def texture3d(table, u, v, w):
-    """Trilinear lookup of ``table`` (depth n_w, height n_v, width n_u, channels) at (u, v, w)."""
-    nw, nv, nu = table.shape[:3]
-    u0, u1, fu = _axis(u, nu)
-    v0, v1, fv = _axis(v, nv)
-    w0, w1, fw = _axis(w, nw)
-    fu, fv, fw = fu[..., None], fv[..., None], fw[..., None]
-
-    def plane(wi):
-        a = table[wi, v0, u0] * (1 - fu) + table[wi, v0, u1] * fu
-        b = table[wi, v1, u0] * (1 - fu) + table[wi, v1, u1] * fu
-        return a * (1 - fv) + b * fv
-    return plane(w0) * (1 - fw) + plane(w1) * fw
