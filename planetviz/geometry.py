@@ -10,12 +10,6 @@ from __future__ import annotations
 import numpy as np
 
 
-def normalize(v):
-    """Unit vectors along the last axis."""
-    v = np.asarray(v, dtype=float)
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
-
-
 def ray_sphere(origin, direction, radius):
     """Both roots t0 <= t1 of |origin + t direction| = radius (``direction`` unit); NaN where missed.
 
@@ -57,8 +51,3 @@ def distance_to_top_exit(origin, direction, top_radius):
     """Distance from a point inside the top sphere to where the ray leaves it (far root, >= 0)."""
     _, t1 = ray_sphere(origin, direction, top_radius)
     return np.maximum(np.nan_to_num(t1, nan=0.0), 0.0)
-
-
-def altitude(points, bottom_radius):
-    """h = |x| - R_bottom [m]."""
-    return np.linalg.norm(points, axis=-1) - bottom_radius

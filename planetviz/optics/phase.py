@@ -43,12 +43,6 @@ def double_henyey_greenstein(nu, g1, g2, alpha):
     return alpha * henyey_greenstein(nu, g1) + (1.0 - alpha) * henyey_greenstein(nu, g2)
 
 
-def rayleigh_like_phase(nu, a):
-    """Normalised (1 + a nu^2) / (4 pi (1 + a / 3)): Rayleigh for a = 1, Penndorf for a = 0.932."""
-    nu = np.asarray(nu, dtype=float)
-    return (1.0 + a * nu * nu) / (4.0 * np.pi * (1.0 + a / 3.0))
-
-
 def sample_rayleigh_like(u, a):
     """Invert the CDF of (1 + a nu^2) on [-1, 1] for uniform ``u`` in [0, 1).
 

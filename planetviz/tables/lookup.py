@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .parameterization import (distance_to_bottom_atmosphere_boundary, irradiance_uv_from_r_mu_s,
+from .parameterization import (irradiance_uv_from_r_mu_s,
                                ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu,
                                transmittance_uv_from_r_mu)
 from .sampling import _axis as _texel_axis
@@ -85,7 +85,3 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
     """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) read as the shader reads its 3D texture
     (n_r, n_mu, n_nu * n_mu_s): two trilinear fetches blended along nu."""
     return apply_stencil(table, *scattering_stencil(t, table.shape[:4], r, mu, mu_s, nu, intersects_ground))
-
-
-def distance_to_ground(t, r, mu):
-    return distance_to_bottom_atmosphere_boundary(r, mu, t.bottom)

@@ -4,11 +4,14 @@ Stages (each a function of the atmosphere and the table sizes):
 
 1. ``transmittance``  T(r, mu) = exp(-int_0^d beta_ext dt) to the top (Eq. 5), Gauss-Legendre quadrature
    split at the ray's closest approach to the centre, nodes clustered there (t = t_c +- span u^2).
-2. ``direct_irradiance``  E_0(r, mu_s) = T_sun(r, mu_s) max(mu_s, 0) (point sun).
-3. ``single_scattering``  S_R,1 and S_M,1 (r, mu, mu_s, nu) = int_0^d beta_i^scat(h_t) T(x, x_t) T_sun(x_t) dt,
+2. ``single_scattering``  S_R,1 and S_M,1 (r, mu, mu_s, nu) = int_0^d beta_i^scat(h_t) T(x, x_t) T_sun(x_t) dt,
    kept apart and without phase (applied at render time, Mie per wavelength with its DHG). The view
    transmittance and density depend on (r, mu, t) only; only T_sun(r_t, mu_s,t) with
    mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
+3. ``multiple_scattering`` (tables/multiple.py): orders >= 2 and the indirect irradiance.
+
+The sun's direct irradiance E_0 = T_sun max(mu_s, 0) (point sun) is not tabulated: it is read from the
+transmittance table where needed.
 
 Radiance is per unit solar irradiance; tables are float32: transmittance (n_r, n_mu, W), irradiance
 (n_r, n_mu_s, W), scattering (n_r, n_mu, n_nu, n_mu_s, W), which is the 3D texture (n_r, n_mu,
@@ -23,7 +26,7 @@ import numpy as np
 from .lookup import get_transmittance, get_transmittance_to_sun
 from .parameterization import (distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv,
-                               r_mu_mu_s_nu_from_scattering_uvwz, r_mu_s_from_irradiance_uv)
+                               r_mu_mu_s_nu_from_scattering_uvwz)
 
 
 @dataclass(frozen=True)
@@ -102,14 +105,6 @@ def transmittance(atm, sizes: TableSizes) -> np.ndarray:
     t, w = ray_nodes(r, mu, d, sizes.transmittance_samples)
     ext = atm.extinction(_altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
     return np.exp(-np.einsum("...k,...kw->...w", w, ext))
-
-
-def direct_irradiance(tables: Tables, atm) -> np.ndarray:
-    """E_0(r, mu_s) = T_sun max(mu_s, 0) on the irradiance grid, (n_r, n_mu_s, W)."""
-    n_mu_s, n_r = tables.sizes.irradiance
-    u, v = np.meshgrid(_texel_centres(n_mu_s), _texel_centres(n_r))
-    r, mu_s = r_mu_s_from_irradiance_uv(u, v, tables.bottom, tables.top, (n_mu_s, n_r))
-    return get_transmittance_to_sun(tables, r, mu_s) * np.maximum(mu_s, 0.0)[..., None]
 
 
 def scattering_grid(tables: Tables, size=None):
