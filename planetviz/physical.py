@@ -15,7 +15,8 @@ Rayleigh (one of):
 Mie: ``scattering`` from turbidity / Junge exponent / K (Eq. 17) or ``"particles"``; ``extinction``
   as ``scattering_ratio`` (beta_scat / beta_ext) or ``"particles"`` (anomalous diffraction, Eqs. 19-20)
   with ``particles`` = radius, complex refractive index, number density.
-Absorption layers: ``O3`` (cross-sections x US Standard 1976 profile, Eq. 15), ``O2`` (Eqs. 13-14),
+Absorption layers: ``O3`` (cross-sections x US Standard 1976 profile, Eq. 15), ``O2`` (Eqs. 13-14; O2-O2 collision-induced
+  absorption unless ``cross_section_m2`` is given),
   ``particles`` (small absorbing particles, Eq. 12).
 """
 from __future__ import annotations
@@ -23,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from .atmosphere import LIMITS, AtmosphereError, _Reader, check_number, from_dict
-from .optics.absorption import (oxygen_absorption, ozone_column_du,
+from .optics.absorption import (oxygen_absorption, oxygen_cia, oxygen_cia_absorption, ozone_column_du,
                                 ozone_cross_section, ozone_profile_table, small_particle_absorption)
 from .optics.composition import GASES, mean_molar_mass, mixture_cross_section
 from .optics.mie import (mie_absorption_particles, mie_extinction_particles,
@@ -139,10 +140,19 @@ def _absorption(data, i, lam_m, n):
         profile = {"type": "table", "altitudes_m": [float(a) for a in alt],
                    "densities": [float(d / peak) for d in dens]}
     elif species == "O2":
-        sigma = r.numbers("cross_section_m2", 0.0, 1e-18)
-        ext = oxygen_absorption(np.array(sigma), r.number("volume_fraction", 0.0, 1.0),
-                                r.number("number_density_m3", 0.0, 1e30))
-        profile = {"type": "exponential", "scale_height_m": _scale_height(r)}
+        fraction = r.number("volume_fraction", 0.0, 1.0)
+        density = r.number("number_density_m3", 0.0, 1e30)
+        height = _scale_height(r)
+        if r.has("cross_section_m2"):
+            ext = oxygen_absorption(np.array(r.numbers("cross_section_m2", 0.0, 1e-18)), fraction, density)
+        else:
+            try:
+                cia = oxygen_cia(lam_m * 1e9)
+            except ValueError as err:
+                raise AtmosphereError(f"{path}.cross_section_m2", str(err)) from None
+            ext = oxygen_cia_absorption(cia, fraction, density)
+            height = height / 2.0
+        profile = {"type": "exponential", "scale_height_m": height}
     else:
         m = np.array(r.numbers("refractive_index_real", 0.0, 10.0, lo_open=True))
         k = np.array(r.numbers("refractive_index_imag", 0.0, 10.0))

@@ -1,16 +1,23 @@
 """The formulas of the paper's Sect. 4 against published values and closed forms."""
+import json
+from pathlib import Path
+
 import colour
 import numpy as np
 import pytest
 
 from planetviz import load_atmosphere
-from planetviz.optics.absorption import ozone_column_du, ozone_cross_section, small_particle_absorption
+from planetviz.atmosphere import AtmosphereError
+from planetviz.optics.absorption import (oxygen_cia, oxygen_cia_table, ozone_column_du, ozone_cross_section,
+                                        small_particle_absorption)
+from planetviz.physical import derive_dict
 from planetviz.optics.airmass import pickering_air_mass
 from planetviz.optics.composition import GASES, mean_molar_mass, mixture_cross_section
 from planetviz.optics.mie import (absorption_efficiency, extinction_efficiency,
                                   mie_scattering_turbidity)
 from planetviz.optics.rayleigh import GAS_CONSTANT, king_factor, rayleigh_scattering, scale_height
 
+PRESETS_DIR = Path(__file__).resolve().parents[1] / "assets" / "atmospheres"
 LAMBDA = np.array([680e-9, 550e-9, 440e-9])
 TABLE1_EARTH_RAYLEIGH = np.array([5.1768e-6, 12.2588e-6, 30.5964e-6])
 
@@ -97,6 +104,57 @@ def test_ozone_data_reproduce_bruneton_coefficients_and_column():
     assert ozone_cross_section(555.0) == pytest.approx(3.5e-25)
     # The US Standard 1976 profile holds about 345 DU (AFGL 1986 quotes 343 DU for it).
     assert ozone_column_du() == pytest.approx(343, rel=0.02)
+
+
+def test_o2_cia_table_has_the_source_band_peaks():
+    # Peaks of the HITRAN 2016 O2-O2 files at their 1 cm^-1 resolution (read off the source, cm^5):
+    # 477.0 nm 6.745e-46, 577.6 nm 1.126e-45, 630.3 nm 7.111e-46. The shipped table samples every
+    # 20 cm^-1 (0.45-0.8 nm), so its maxima may fall up to 1 nm away and 1% lower (the bands are
+    # ~300 cm^-1 wide and flat-topped over 20 cm^-1).
+    wl, k = oxygen_cia_table()
+    for centre, peak_cm5 in ((477.0, 6.745e-46), (577.6, 1.126e-45), (630.3, 7.111e-46)):
+        near = np.abs(wl - centre) < 10.0
+        i = np.argmax(np.where(near, k, 0.0))
+        assert abs(wl[i] - centre) < 1.0
+        assert 0.99 * peak_cm5 * 1e-10 <= k[i] <= peak_cm5 * 1e-10
+    assert np.all(k >= 0.0)
+
+
+def _advanced_earth_with_o2(wavelengths, **o2):
+    d = json.loads((PRESETS_DIR / "earth-advanced.json").read_text())
+    n = len(wavelengths)
+    d["wavelengths_nm"] = wavelengths
+    d["ground_albedo"] = [0.3] * n
+    d["rayleigh"]["refractive_index"] = [1.000278] * n
+    d["mie"]["scattering"]["k"] = [0.009] * n
+    d["mie"]["phase"] = {"g1": [0.85] * n, "g2": [0.0] * n, "alpha": [1.0] * n}
+    d["absorption"] = [{"species": "O2", "volume_fraction": 0.2095, "number_density_m3": 2.68731e25,
+                        "scale_height_m": 7995.75, **o2}]
+    return d
+
+
+def test_o2_absorption_is_collision_induced_with_the_squared_profile():
+    # Independent brute force: the vertical optical depth of O2-O2 absorption is the integral of
+    # k (f N exp(-h / H))^2 dh over the atmosphere, by the trapezoid rule on 1 m steps (relative
+    # error ~1e-8 for a 4 km decay length); the derived layer must give it to 1e-6.
+    wavelengths = [477.0, 577.6, 630.3, 550.0]
+    layer = derive_dict(_advanced_earth_with_o2(wavelengths))["absorption"][0]
+    h = np.linspace(0.0, 60000.0, 60001)
+    n_o2 = 0.2095 * 2.68731e25 * np.exp(-h / 7995.75)
+    brute = oxygen_cia(wavelengths) * np.trapezoid(n_o2 ** 2, h)
+    height = layer["profile"]["scale_height_m"]
+    tau = np.array(layer["extinction_m"]) * height * -np.expm1(-60000.0 / height)
+    assert np.allclose(tau, brute, rtol=1e-6)
+    # In the 477 nm band Earth's O2-O2 column absorbs about 1% (vertical), far more than at 550 nm.
+    assert 0.005 < tau[0] < 0.012 and tau[3] < tau[0] / 50
+
+
+def test_o2_outside_the_table_needs_explicit_cross_sections():
+    with pytest.raises(AtmosphereError, match=r"absorption\[0\]\.cross_section_m2.*428\.8-703\.2 nm"):
+        derive_dict(_advanced_earth_with_o2([380.0]))
+    layer = derive_dict(_advanced_earth_with_o2([380.0], cross_section_m2=[1e-30]))["absorption"][0]
+    assert np.isclose(layer["extinction_m"][0], 1e-30 * 0.2095 * 2.68731e25)       # Eqs. 13-14 as printed
+    assert layer["profile"]["scale_height_m"] == 7995.75
 
 
 def test_pickering_air_mass():

@@ -26,6 +26,17 @@ def oxygen_absorption(cross_section_m2, volume_fraction, number_density):
     return np.asarray(cross_section_m2, dtype=float) * volume_fraction * number_density
 
 
+def oxygen_cia_absorption(cia_m5, volume_fraction, number_density):
+    """beta_O2^abs at the ground [1/m] from O2-O2 collision-induced absorption = k (O2% N_0)^2.
+
+    This is Eq. 13 with the per-molecule cross-section sigma_O2 = k rho_O2 [m^2]: in the visible, O2 absorbs
+    through collisions of two O2 molecules, so the coefficient scales with rho_O2^2 and its height profile is
+    exp(-2 h / H_O2) (Eq. 14 squared).
+    """
+    n_o2 = volume_fraction * number_density
+    return np.asarray(cia_m5, dtype=float) * n_o2 * n_o2
+
+
 def _read_csv(path: Path):
     with open(path) as f:
         rows = [r for r in csv.reader(line for line in f if not line.startswith("#"))]
@@ -44,6 +55,24 @@ def ozone_cross_section(wavelength_nm):
     """sigma_O3(lambda) [m^2], linear between the 10 nm bins, 0 outside 365-835 nm."""
     wl, sigma = ozone_cross_section_table()
     return np.interp(np.asarray(wavelength_nm, dtype=float), wl, sigma, left=0.0, right=0.0)
+
+
+@lru_cache(maxsize=None)
+def oxygen_cia_table():
+    """(wavelengths [nm], O2-O2 CIA coefficient k [m^5]) from assets/data/o2_o2_cia.csv (HITRAN 2016)."""
+    t = _read_csv(DATA / "o2_o2_cia.csv")
+    return t["wavelength_nm"], t["cia_m5"]
+
+
+def oxygen_cia(wavelength_nm):
+    """k_O2-O2(lambda) [m^5], linear between the table's samples; ValueError outside the tabulated range."""
+    wl, k = oxygen_cia_table()
+    lam = np.asarray(wavelength_nm, dtype=float)
+    outside = (lam < wl[0]) | (lam > wl[-1])
+    if np.any(outside):
+        raise ValueError(f"O2-O2 absorption is tabulated for {wl[0]:.1f}-{wl[-1]:.1f} nm only; got "
+                         f"{lam[outside][0]:g} nm (give cross_section_m2 explicitly outside that range)")
+    return np.interp(lam, wl, k)
 
 
 @lru_cache(maxsize=None)
