@@ -131,7 +131,7 @@ def _cmd_precompute(args) -> int:
     for stage, seconds in tables.timings.items():
         print(f"{stage:<22} {seconds:8.2f} s")
     print(f"{'total':<22} {sum(tables.timings.values()):8.2f} s   ({tables.orders} scattering orders)")
-    sizes = {"transmittance": tables.transmittance, "irradiance": tables.irradiance,
+    sizes = {"transmittance": tables.optical_depth, "irradiance": tables.irradiance,
              "single Rayleigh": tables.rayleigh, "single Mie": tables.mie, "multiple": tables.multiple}
     for name, table in sizes.items():
         print(f"{name:<22} {str(table.shape):<26} {table.nbytes / 1e6:8.2f} MB")

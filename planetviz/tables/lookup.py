@@ -13,26 +13,32 @@ from .sampling import _axis as _texel_axis
 from .sampling import texture2d
 
 
+def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):
+    """tau between (r, mu) and the top of the atmosphere (the ray must not hit the ground)."""
+    n_r, n_mu = t.optical_depth.shape[:2]
+    u, v = transmittance_uv_from_r_mu(r, mu, t.bottom, t.top, (n_mu, n_r))
+    return texture2d(t.optical_depth, u, v)
+
+
 def get_transmittance_to_top_atmosphere_boundary(t, r, mu):
     """T between (r, mu) and the top of the atmosphere (the ray must not hit the ground)."""
-    n_r, n_mu = t.transmittance.shape[:2]
-    u, v = transmittance_uv_from_r_mu(r, mu, t.bottom, t.top, (n_mu, n_r))
-    return texture2d(t.transmittance, u, v)
+    return np.exp(-get_optical_depth_to_top_atmosphere_boundary(t, r, mu))
 
 
 def get_transmittance(t, r, mu, d, intersects_ground):
-    """T between (r, mu) and the point at distance d along the ray (Bruneton's ratio of two lookups).
+    """T between (r, mu) and the point at distance d along the ray, from a difference of two optical depths
+    (Bruneton's ratio of two transmittances, taken in the log so that it survives thick atmospheres).
 
-    Rays that hit the ground use the reversed ray, T(r_d, -mu_d) / T(r, -mu), so that neither lookup
-    crosses the horizon; the others T(r, mu) / T(r_d, mu_d).
+    Rays that hit the ground use the reversed ray, tau(r_d, -mu_d) - tau(r, -mu), so that neither lookup
+    crosses the horizon; the others tau(r, mu) - tau(r_d, mu_d).
     """
     r_d = np.sqrt(np.maximum(d * d + 2.0 * r * mu * d + r * r, 0.0))
     r_d = np.clip(r_d, t.bottom, t.top)
     mu_d = np.clip((r * mu + d) / r_d, -1.0, 1.0)
     g = np.asarray(intersects_ground)
-    num = get_transmittance_to_top_atmosphere_boundary(t, np.where(g, r_d, r), np.where(g, -mu_d, mu))
-    den = get_transmittance_to_top_atmosphere_boundary(t, np.where(g, r, r_d), np.where(g, -mu, mu_d))
-    return np.minimum(num / np.maximum(den, 1e-30), 1.0)
+    near = get_optical_depth_to_top_atmosphere_boundary(t, np.where(g, r_d, r), np.where(g, -mu_d, mu))
+    far = get_optical_depth_to_top_atmosphere_boundary(t, np.where(g, r, r_d), np.where(g, -mu, mu_d))
+    return np.exp(-np.maximum(near - far, 0.0))
 
 
 def get_transmittance_to_sun(t, r, mu_s):

@@ -2,8 +2,11 @@
 
 Stages (each a function of the atmosphere and the table sizes):
 
-1. ``transmittance``  T(r, mu) = exp(-int_0^d beta_ext dt) to the top (Eq. 5), Gauss-Legendre quadrature
-   split at the ray's closest approach to the centre, nodes clustered there (t = t_c +- span u^2).
+1. ``transmittance``  the optical depth tau(r, mu) = int_0^d beta_ext dt to the top (T = exp(-tau), Eq. 5),
+   Gauss-Legendre quadrature split at the ray's closest approach to the centre, nodes clustered there
+   (t = t_c +- span u^2). The table stores tau, not T: in a thick atmosphere T to the top underflows float32
+   near the horizon (tau of several hundred), and T(x, y) as a ratio of two such T is 0 / 0, while a
+   difference of optical depths keeps its precision.
 2. ``single_scattering``  S_R,1 and S_M,1 (r, mu, mu_s, nu) = int_0^d beta_i^scat(h_t) T(x, x_t) T_sun(x_t) dt,
    kept apart and without phase (applied at render time, Mie per wavelength with its DHG). The view
    transmittance and density depend on (r, mu, t) only; only T_sun(r_t, mu_s,t) with
@@ -13,7 +16,7 @@ Stages (each a function of the atmosphere and the table sizes):
 The sun's direct irradiance E_0 = T_sun max(mu_s, 0) (point sun) is not tabulated: it is read from the
 transmittance table where needed.
 
-Radiance is per unit solar irradiance; tables are float32: transmittance (n_r, n_mu, W), irradiance
+Radiance is per unit solar irradiance; tables are float32: optical depth (n_r, n_mu, W), irradiance
 (n_r, n_mu_s, W), scattering (n_r, n_mu, n_nu, n_mu_s, W), which is the 3D texture (n_r, n_mu,
 n_nu * n_mu_s) the shader samples.
 """
@@ -62,7 +65,7 @@ class Tables:
     bottom: float
     top: float
     sizes: TableSizes
-    transmittance: np.ndarray
+    optical_depth: np.ndarray
     irradiance: np.ndarray
     rayleigh: np.ndarray
     mie: np.ndarray
@@ -72,7 +75,7 @@ class Tables:
 
     @property
     def nbytes(self) -> int:
-        tables = (self.transmittance, self.irradiance, self.rayleigh, self.mie, self.multiple)
+        tables = (self.optical_depth, self.irradiance, self.rayleigh, self.mie, self.multiple)
         return sum(a.nbytes for a in tables if a is not None)
 
 
@@ -96,15 +99,15 @@ def _altitude(r, mu, t, bottom):
     return np.sqrt(np.maximum(t * t + 2.0 * r * mu * t + r * r, 0.0)) - bottom
 
 
-def transmittance(atm, sizes: TableSizes) -> np.ndarray:
-    """T(r, mu) to the top of the atmosphere, shape (n_r, n_mu, W)."""
+def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
+    """tau(r, mu) to the top of the atmosphere (T = exp(-tau)), shape (n_r, n_mu, W)."""
     n_mu, n_r = sizes.transmittance
     u, v = np.meshgrid(_texel_centres(n_mu), _texel_centres(n_r))
     r, mu = r_mu_from_transmittance_uv(u, v, atm.bottom_radius_m, atm.top_radius_m, (n_mu, n_r))
     d = distance_to_top_atmosphere_boundary(r, mu, atm.top_radius_m)
     t, w = ray_nodes(r, mu, d, sizes.transmittance_samples)
     ext = atm.extinction(_altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
-    return np.exp(-np.einsum("...k,...kw->...w", w, ext))
+    return np.einsum("...k,...kw->...w", w, ext)
 
 
 def scattering_grid(tables: Tables, size=None):
@@ -171,7 +174,7 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     clock = time.perf_counter
     t0 = clock()
     W = atm.n_wavelengths
-    tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, transmittance(atm, sizes).astype(np.float32),
+    tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, optical_depth_to_top(atm, sizes).astype(np.float32),
                     np.zeros(sizes.irradiance[::-1] + (W,), np.float32), np.empty(0), np.empty(0))
     t1 = clock()
     if progress:
