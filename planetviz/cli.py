@@ -2,9 +2,12 @@
 
     planetviz sky        [--atmosphere A] [--sun-elevation DEG] [--quality Q]
     planetviz atmosphere PRESET_OR_FILE
-    planetviz precompute --atmosphere A [--quality draft|standard|high]
+    planetviz precompute --atmosphere A [--quality draft|standard|high] [--no-cache]
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
-                         [--method reference|lut|fallback] [--quality draft|standard|high]
+                         [--method reference|lut|fallback] [--quality draft|standard|high] [--no-cache]
+
+Tables are cached in $PLANETVIZ_CACHE (default ~/.cache/planetviz) as OpenEXR files; --no-cache
+computes them afresh and writes nothing.
 
 Invalid input exits with code 2 and one line naming the field and the allowed range.
 """
@@ -51,13 +54,18 @@ def _cmd_atmosphere(args) -> int:
     return 0
 
 
-def _solve(atm, queries, method, quality, samples, seed):
+def _table_cache(args):
+    from .tables.cache import TableCache
+    return None if args.no_cache else TableCache()
+
+
+def _solve(atm, queries, method, quality, samples, seed, cache=None):
     if method == "lut":
         from .reference import ReferenceResult
         from .tables.evaluator import sky_radiance
         from .tables.precompute import QUALITY, precompute
-        radiance, transmittance = sky_radiance(precompute(atm, QUALITY[quality]), atm, queries.camera_m,
-                                               queries.view_dir, queries.sun_dir)
+        radiance, transmittance = sky_radiance(precompute(atm, QUALITY[quality], cache=cache), atm,
+                                               queries.camera_m, queries.view_dir, queries.sun_dir)
         return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, 0)
     if method != "reference":
         raise ValueError(f"--method {method}: not available in this version; allowed: reference, lut")
@@ -70,7 +78,8 @@ def _cmd_radiance(args) -> int:
     from .queries import load_queries
     atm = load_atmosphere(args.atmosphere)
     queries = load_queries(args.queries, atm.bottom_radius_m)
-    result = _solve(atm, queries, args.method, args.quality, args.samples, args.seed)
+    result = _solve(atm, queries, args.method, args.quality, args.samples, args.seed,
+                    cache=_table_cache(args) if args.method == "lut" else None)
     extra = {"radiance_stderr": result.stderr} if args.method == "reference" else {}
     np.savez(args.out, radiance=result.radiance, transmittance=result.transmittance,
              wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **extra)
@@ -126,16 +135,20 @@ def _cmd_precompute(args) -> int:
     from .tables.precompute import QUALITY, precompute
     atm = load_atmosphere(args.atmosphere)
     bar = _ProgressBar(sys.stdout)
-    tables = precompute(atm, QUALITY[args.quality], progress=bar)
+    cache = _table_cache(args)
+    tables = precompute(atm, QUALITY[args.quality], progress=bar, cache=cache)
     print()
     for stage, seconds in tables.timings.items():
-        print(f"{stage:<22} {seconds:8.2f} s")
+        how = "computed" if stage in tables.computed else "from the cache"
+        print(f"{stage:<22} {seconds:8.2f} s   {how}")
     print(f"{'total':<22} {sum(tables.timings.values()):8.2f} s   ({tables.orders} scattering orders)")
     sizes = {"transmittance": tables.optical_depth, "irradiance": tables.irradiance,
              "single Rayleigh": tables.rayleigh, "single Mie": tables.mie, "multiple": tables.multiple}
     for name, table in sizes.items():
         print(f"{name:<22} {str(table.shape):<26} {table.nbytes / 1e6:8.2f} MB")
     print(f"{'table memory':<22} {tables.nbytes / 1e6:8.2f} MB (float32)")
+    if cache is not None:
+        print(f"cache: {cache.directory}")
     return 0
 
 
@@ -158,6 +171,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("precompute", help="compute the scattering tables, with timings and memory")
     p.add_argument("--atmosphere", required=True, help=f"preset ({presets}) or JSON file")
     p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
+    p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache")
     p.set_defaults(func=_cmd_precompute)
 
     p = sub.add_parser("radiance", help="radiance for a set of rays (Q.npz -> OUT.npz)")
@@ -168,6 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
     p.add_argument("--samples", type=int, default=None, help="override the paths per ray (reference)")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache (lut)")
     p.set_defaults(func=_cmd_radiance)
     return parser
 

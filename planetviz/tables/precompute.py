@@ -72,6 +72,7 @@ class Tables:
     multiple: np.ndarray | None = None
     timings: dict = field(default_factory=dict)
     orders: int = 1
+    computed: list = field(default_factory=list)
 
     @property
     def nbytes(self) -> int:
@@ -156,10 +157,13 @@ def single_scattering(tables: Tables, atm, progress=None):
     return out_r, out_m
 
 
-def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, progress=None) -> Tables:
+def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, progress=None,
+               cache=None) -> Tables:
     """All tables for ``atm``: transmittance, single scattering, and (``multiple``) every order above.
 
-    ``progress(stage, fraction)`` is called as the stages advance (for a progress bar).
+    ``cache`` (a :class:`~planetviz.tables.cache.TableCache`, or None for no disk cache) supplies the stages
+    whose parameters did not change and stores the ones computed; ``Tables.computed`` lists the stages
+    that ran. ``progress(stage, fraction)`` is called as the stages advance (for a progress bar).
 
     Example
     -------
@@ -170,27 +174,55 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     True
     """
     import time
+    from .cache import parameters_hash, stage_parameters
     from .multiple import multiple_scattering
     clock = time.perf_counter
-    t0 = clock()
     W = atm.n_wavelengths
-    tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, optical_depth_to_top(atm, sizes).astype(np.float32),
-                    np.zeros(sizes.irradiance[::-1] + (W,), np.float32), np.empty(0), np.empty(0))
-    t1 = clock()
-    if progress:
-        progress("transmittance", 1.0)
-    s_r, s_m = single_scattering(tables, atm, progress)
-    tables.rayleigh, tables.mie = s_r.astype(np.float32), s_m.astype(np.float32)
-    if progress:
-        progress("single scattering", 1.0)
-    t2 = clock()
-    tables.timings = {"transmittance": t1 - t0, "single_scattering": t2 - t1}
-    n_nu, n_mu_s, n_mu, n_r = sizes.multiple
-    tables.multiple = np.zeros((n_r, n_mu, n_nu, n_mu_s, W), np.float32)
+    wavelengths = atm.wavelengths_nm
+    params = stage_parameters(atm, sizes)
+    keys = {stage: parameters_hash(p) for stage, p in params.items()}
+    n_nu, n_mu_s, n_mu, n_r = sizes.scattering
+    n_mu_t, n_r_t = sizes.transmittance
+    m_nu, m_mu_s, m_mu, m_r = sizes.multiple
+    shapes = {"transmittance": {"optical_depth": (n_r_t, n_mu_t, W)},
+              "single_scattering": {"rayleigh": (n_r, n_mu, n_nu, n_mu_s, W), "mie": (n_r, n_mu, n_nu, n_mu_s, W)},
+              "multiple_scattering": {"multiple": (m_r, m_mu, m_nu, m_mu_s, W),
+                                      "irradiance": sizes.irradiance[::-1] + (W,)}}
+    timings, computed = {}, []
+
+    def stage(name, compute):
+        found = cache.load(name, keys[name], wavelengths, shapes[name]) if cache is not None else None
+        if found is not None:
+            timings[name] = 0.0
+            if progress:
+                progress(f"{name} (cached)", 1.0)
+            return found
+        t0 = clock()
+        arrays, attrs = compute()
+        arrays = {k: v.astype(np.float32) for k, v in arrays.items()}
+        timings[name] = clock() - t0
+        computed.append(name)
+        if progress:
+            progress(name, 1.0)
+        if cache is not None:
+            cache.store(name, keys[name], params[name], wavelengths, arrays, attrs)
+        return {**arrays, "attrs": attrs}
+
+    tau = stage("transmittance", lambda: ({"optical_depth": optical_depth_to_top(atm, sizes)}, {}))
+    tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, tau["optical_depth"],
+                    np.zeros(shapes["multiple_scattering"]["irradiance"], np.float32), np.empty(0), np.empty(0))
+    single = stage("single_scattering",
+                   lambda: (dict(zip(("rayleigh", "mie"), single_scattering(tables, atm, progress))), {}))
+    tables.rayleigh, tables.mie = single["rayleigh"], single["mie"]
+    tables.multiple = np.zeros(shapes["multiple_scattering"]["multiple"], np.float32)
     if multiple:
-        ms, irr, orders = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
-                                              samples=sizes.multiple_samples, tolerance=sizes.tolerance,
-                                              progress=progress)
-        tables.multiple, tables.irradiance, tables.orders = ms.astype(np.float32), irr.astype(np.float32), orders
-        tables.timings["multiple_scattering"] = clock() - t2
+        def orders():
+            ms, irr, n = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
+                                             samples=sizes.multiple_samples, tolerance=sizes.tolerance,
+                                             progress=progress)
+            return {"multiple": ms, "irradiance": irr}, {"orders": int(n)}
+        ms = stage("multiple_scattering", orders)
+        tables.multiple, tables.irradiance = ms["multiple"], ms["irradiance"]
+        tables.orders = int(ms["attrs"]["orders"])
+    tables.timings, tables.computed = timings, computed
     return tables
