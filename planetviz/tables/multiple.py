@@ -99,9 +99,14 @@ def _mie_kernels(atm, v, dirs, weights):
     c2 = np.einsum("...i,ki->...k", v * np.array([1.0, -1.0, 1.0]), dirs).astype(np.float32)
     n = 4096
     grid = np.linspace(-1.0, 1.0, n + 1)
-    out = []
+    phase_table = atm.mie.phase_function(grid).astype(np.float32)
+    out, done = [], {}
     for w in range(atm.n_wavelengths):
-        tab = atm.mie.phase_function(grid)[:, w].astype(np.float32)
+        lobe = (atm.mie.g1[w], atm.mie.g2[w], atm.mie.alpha[w])
+        if lobe in done:                  # wavelengths with the same phase function share one kernel
+            out.append(done[lobe])
+            continue
+        tab = phase_table[:, w]
         k = np.zeros(c1.shape, np.float32)
         for c in (c1, c2):
             x = (c + 1.0) * (n / 2.0)
@@ -110,6 +115,7 @@ def _mie_kernels(atm, v, dirs, weights):
             k += tab[i] * (1.0 - f) + tab[i + 1] * f
         k *= weights.astype(np.float32)
         k /= k.sum(-1, keepdims=True)
+        done[lobe] = k
         out.append(k)
     return out
 
@@ -152,7 +158,9 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     path_stencil = scattering_stencil(tables, shape, r_t, mu_t, mu_s_t, nn, gg)
     path_weight = wt[..., None] * get_transmittance(tables, rr, mm, t, gg)
     h_t = r_t - tables.bottom
-    dens_t = (atm.rayleigh.profile.density(h_t)[..., None], atm.mie.profile.density(h_t)[..., None])
+    # Node weights with each component's density folded in: (..., K, 2W) against J's 2W channels.
+    node_weight = np.concatenate([path_weight * atm.rayleigh.profile.density(h_t)[..., None],
+                                  path_weight * atm.mie.profile.density(h_t)[..., None]], -1).astype(np.float32)
 
     total = np.zeros(shape + (W,))
     irradiance = np.zeros(r_irr.shape + (W,))
@@ -169,12 +177,13 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         quad = np.einsum("abcdxy,adxyw->abcdw", vv, m2)
         # J per unit density of each component (its angular part varies slowly with altitude; the
         # density, which does not, is applied exactly at every integration node).
-        J = np.empty(shape + (2 * W,))
+        J = np.empty(shape + (2 * W,), np.float32)
         J[..., :W] = beta_r * (m0[:, None, None] + a_coef * quad) / (4 * np.pi * (1 + a_coef / 3))
         for w in range(W):
             J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w])
         jt = apply_stencil(J, *path_stencil)
-        S = np.einsum("...kw,...kw->...w", path_weight, dens_t[0] * jt[..., :W] + dens_t[1] * jt[..., W:])
+        SJ = np.einsum("...kw,...kw->...w", node_weight, jt)
+        S = (SJ[..., :W] + SJ[..., W:]).astype(np.float64)
         total += S
         irradiance += e
         ms_prev, irr_prev = S, e
