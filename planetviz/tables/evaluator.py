@@ -7,6 +7,8 @@ For a camera x (moved to the top of the atmosphere when it is in space), view di
   S(x -> y) = S(x) - T(x, y) S(y), plus the ground itself:
   T(x, y) (a / pi) [T_sun(y) max(n . s, 0) + E_sky(y)]  (Lambertian, lit by the sun and the sky).
 
+``tables`` is a 4D set (:class:`~planetviz.tables.precompute.Tables`) or a compact one
+(:class:`~planetviz.tables.compact.CompactTables`: the same formulas, in-scattering read without nu).
 Returns radiance (N, W) in 1/sr per unit solar irradiance and the transmittance along the view ray.
 """
 from __future__ import annotations
@@ -14,15 +16,19 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry import ray_sphere
+from .compact import CompactTables, get_compact_scattering
 from .lookup import (get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, get_transmittance_to_top_atmosphere_boundary)
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
 
 def _phased(tables, atm, r, mu, mu_s, nu, ground):
-    s_r = get_scattering(tables, tables.rayleigh, r, mu, mu_s, nu, ground)
-    s_m = get_scattering(tables, tables.mie, r, mu, mu_s, nu, ground)
-    s_ms = get_scattering(tables, tables.multiple, r, mu, mu_s, nu, ground)
+    if isinstance(tables, CompactTables):
+        s_r, s_m, s_ms = (get_compact_scattering(tables, table, r, mu, mu_s)
+                          for table in (tables.rayleigh, tables.mie, tables.multiple))
+    else:
+        s_r, s_m, s_ms = (get_scattering(tables, table, r, mu, mu_s, nu, ground)
+                          for table in (tables.rayleigh, tables.mie, tables.multiple))
     return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu) + s_ms
 
 

@@ -25,3 +25,22 @@ def texture2d(table, u, v):
     top = table[v0, u0] * (1 - fu) + table[v0, u1] * fu
     bottom = table[v1, u0] * (1 - fu) + table[v1, u1] * fu
     return top * (1 - fv) + bottom * fv
+
+
+def texture3d(table, u, v, w):
+    """Trilinear lookup of ``table`` (depth n_w, height n_v, width n_u, channels) at (u, v, w)."""
+    nw = table.shape[0]
+    w0, w1, fw = _axis(w, nw)
+    fw = fw[..., None]
+    return texture2d_slices(table, w0, u, v) * (1 - fw) + texture2d_slices(table, w1, u, v) * fw
+
+
+def texture2d_slices(table, slice_index, u, v):
+    """Bilinear lookup in the slices ``table[slice_index]`` (one slice per query)."""
+    nv, nu = table.shape[1:3]
+    u0, u1, fu = _axis(u, nu)
+    v0, v1, fv = _axis(v, nv)
+    fu, fv = fu[..., None], fv[..., None]
+    top = table[slice_index, v0, u0] * (1 - fu) + table[slice_index, v0, u1] * fu
+    bottom = table[slice_index, v1, u0] * (1 - fu) + table[slice_index, v1, u1] * fu
+    return top * (1 - fv) + bottom * fv

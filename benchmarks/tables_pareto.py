@@ -1,0 +1,185 @@
+"""Precompute time against radiance error of the tables, per atmosphere: quality levels and a sweep.
+
+    python benchmarks/tables_pareto.py [--presets earth mars exo-co2-thick] [--sweep] [--paths 3000]
+                                       [--plot docs/img/tables-pareto.png]
+
+Query set (fixed, 200 rays per atmosphere): cameras at 2 m (ground), 10 km (aircraft), 30 km
+(stratosphere), 1000 km and 40000 km (space); sun elevations 90, 60, 30, 10, 4, 2 deg (daylight: sun
+zenith <= 88 deg) and 0, -2, -4, -6 deg (twilight); per camera and sun, four views: one random, one 3 deg
+from the sun, one grazing the horizon (the limb from space) and one toward the ground (the planet from
+space). The reference is the Monte Carlo solver with ``--paths`` paths per ray, stored in
+benchmarks/data/reference-<preset>-<paths>.npz (recomputed when absent).
+
+Errors are relative, over radiances above 1e-5 / sr. The reference is noisy (about 1% per ray), so the
+RMS error of the tables is estimated with the noise removed: sqrt(mean(e^2) - mean(s^2)), e the relative
+difference and s the reference's relative standard error per ray (both averaged over rays and
+wavelengths); the noise floor sqrt(mean(s^2)) is printed beside it. p95 is of |e| (noise included).
+Times are the precompute on this machine (2 cores), all stages, no cache.
+"""
+import argparse
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from planetviz import load_atmosphere
+from planetviz.reference import solve
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.tables.precompute import QUALITY, precompute
+
+DATA = Path(__file__).resolve().parent / "data"
+ALTITUDES = (2.0, 1e4, 3e4, 1e6, 4e7)
+ELEVATIONS = (90.0, 60.0, 30.0, 10.0, 4.0, 2.0, 0.0, -2.0, -4.0, -6.0)
+
+
+def query_set(atm, seed=1):
+    """(cameras, views, suns, sun elevation [deg]) of the fixed query set."""
+    rng = np.random.default_rng(seed)
+    cams, views, suns, els = [], [], [], []
+    for alt in ALTITUDES:
+        r = atm.bottom_radius_m + alt
+        cam = np.array([0.0, 0.0, r])
+        for el in ELEVATIONS:
+            az = rng.uniform(0, 2 * np.pi)
+            e = np.radians(el)
+            sun = np.array([np.cos(e) * np.cos(az), np.cos(e) * np.sin(az), np.sin(e)])
+            random = rng.normal(size=3)
+            # 3 deg from the sun
+            perp = np.cross(sun, [0.0, 0.0, 1.0]) if abs(sun[2]) < 0.99 else np.array([1.0, 0.0, 0.0])
+            perp /= np.linalg.norm(perp)
+            near_sun = np.cos(np.radians(3)) * sun + np.sin(np.radians(3)) * perp
+            # grazing the horizon (ground horizon from inside; the limb, 10 km above the surface, from space)
+            graze_r = atm.bottom_radius_m + (1e4 if r > atm.top_radius_m else 0.0)
+            mu_h = -np.sqrt(max(1.0 - (graze_r / r) ** 2, 0.0)) + (0.002 if r <= atm.top_radius_m else 0.0)
+            phi = rng.uniform(0, 2 * np.pi)
+            horizon = np.array([np.sqrt(1 - mu_h ** 2) * np.cos(phi), np.sqrt(1 - mu_h ** 2) * np.sin(phi), mu_h])
+            # toward the ground: nadir-ish, 20 deg off
+            down = np.array([np.sin(np.radians(20)) * np.cos(phi), np.sin(np.radians(20)) * np.sin(phi),
+                             -np.cos(np.radians(20))])
+            for v in (random, near_sun, horizon, down):
+                cams.append(cam)
+                views.append(v / np.linalg.norm(v))
+                suns.append(sun)
+                els.append(el)
+    return np.array(cams), np.array(views), np.array(suns), np.array(els)
+
+
+def reference(name, atm, queries, paths):
+    path = DATA / f"reference-{name}-{paths}.npz"
+    if path.exists():
+        with np.load(path) as f:
+            return f["radiance"], f["stderr"]
+    t0 = time.perf_counter()
+    res = solve(atm, *queries[:3], samples=paths, seed=3)
+    print(f"(reference for {name}: {len(queries[0])} rays x {paths} paths in {time.perf_counter() - t0:.0f} s)",
+          flush=True)
+    DATA.mkdir(exist_ok=True)
+    np.savez(path, radiance=res.radiance, stderr=res.stderr)
+    return res.radiance, res.stderr
+
+
+def errors(lut, ref, stderr, mask):
+    e = ((lut - ref) / np.maximum(ref, 1e-30))[mask]
+    s = (stderr / np.maximum(ref, 1e-30))[mask]
+    rms = np.sqrt(max(np.mean(e ** 2) - np.mean(s ** 2), 0.0))
+    return rms, np.percentile(np.abs(e), 95), np.sqrt(np.mean(s ** 2))
+
+
+SWEEP = {
+    # name: changes to the standard level
+    "T 128x32, 32 nodes": dict(transmittance=(128, 32), transmittance_samples=32),
+    "single 4x16x64x16, 6": dict(scattering=(4, 16, 64, 16), scattering_samples=6),
+    "single 8x32x128x32, 16": dict(scattering=(8, 32, 128, 32), scattering_samples=16),
+    "multiple 4x16x32x16": dict(multiple=(4, 16, 32, 16)),
+    "multiple 4x32x64x16": dict(multiple=(4, 32, 64, 16)),
+    "multiple 4x32x32x8": dict(multiple=(4, 32, 32, 8)),
+    "dirs 8x8": dict(directions=(8, 8)),
+    "dirs 16x16": dict(directions=(16, 16)),
+    "ms nodes 4": dict(multiple_samples=4),
+    "ms nodes 8": dict(multiple_samples=8),
+    "tolerance 1e-2": dict(tolerance=1e-2),
+    "tolerance 1e-3": dict(tolerance=1e-3),
+    "draft + single 8x32x64x32": dict(),        # filled in below from the draft level
+}
+
+
+def configurations(sweep):
+    out = [(f"level {q}", sizes) for q, sizes in QUALITY.items()]
+    if sweep:
+        for name, change in SWEEP.items():
+            if name.startswith("draft +"):
+                out.append((name, replace(QUALITY["draft"], scattering=(8, 32, 64, 32), scattering_samples=10)))
+            else:
+                out.append((name, replace(QUALITY["standard"], **change)))
+    return out
+
+
+def pareto(points):
+    """Indices of the points not beaten in both time and error."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best = [], np.inf
+    for i in order:
+        if points[i][1] < best:
+            front.append(i)
+            best = points[i][1]
+    return front
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--presets", nargs="+", default=["earth", "mars", "exo-co2-thick"])
+    ap.add_argument("--sweep", action="store_true", help="also the sweep of sizes, samples and orders")
+    ap.add_argument("--paths", type=int, default=3000)
+    ap.add_argument("--plot", default=None, help="PNG of time against daylight error, Pareto front marked")
+    args = ap.parse_args()
+    print("| atmosphere | configuration | precompute [s] | orders | MB | daylight RMS | daylight p95 | "
+          "twilight RMS | twilight p95 | noise floor (day / twilight) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    results = {}
+    for name in args.presets:
+        atm = load_atmosphere(name)
+        queries = query_set(atm)
+        ref, stderr = reference(name, atm, queries, args.paths)
+        el = queries[3][:, None]
+        ok = ref > 1e-5
+        day, dusk = ok & (el >= 2), ok & (el < 2)
+        rows = []
+        for label, sizes in configurations(args.sweep):
+            t0 = time.perf_counter()
+            tables = precompute(atm, sizes)
+            seconds = time.perf_counter() - t0
+            lut, _ = sky_radiance(tables, atm, *queries[:3])
+            d, n = errors(lut, ref, stderr, day), errors(lut, ref, stderr, dusk)
+            rows.append((seconds, d[0], n[0], label))
+            print(f"| {name} | {label} | {seconds:.2f} | {tables.orders} | {tables.nbytes / 1e6:.1f} | "
+                  f"{d[0]:.4f} | {d[1]:.4f} | {n[0]:.4f} | {n[1]:.4f} | {d[2]:.4f} / {n[2]:.4f} |", flush=True)
+        results[name] = rows
+    if args.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, axes = plt.subplots(1, len(results), figsize=(5.5 * len(results), 4.5), squeeze=False)
+        for ax, (name, rows) in zip(axes[0], results.items()):
+            pts = [(r[0], r[1]) for r in rows]
+            ax.scatter([p[0] for p in pts], [p[1] for p in pts], c=["C3" if r[3].startswith("level") else "C0"
+                                                                    for r in rows])
+            front = pareto(pts)
+            ax.plot([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=1, label="Pareto front")
+            for r in rows:
+                ax.annotate(r[3].replace("level ", ""), (r[0], r[1]), fontsize=6, xytext=(3, 2),
+                            textcoords="offset points")
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel("precompute [s] (2 cores)")
+            ax.set_ylabel("daylight RMS relative error (noise removed)")
+            ax.set_title(name)
+            ax.legend(fontsize=7)
+        fig.tight_layout()
+        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(args.plot, dpi=120)
+        print(f"plot: {args.plot}")
+
+
+if __name__ == "__main__":
+    main()
