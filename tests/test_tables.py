@@ -10,9 +10,10 @@ from planetviz import load_atmosphere
 from planetviz.reference import optical_depth, single_scattering, solve
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_scattering
-from planetviz.tables.parameterization import (MU_S_MIN, r_mu_from_transmittance_uv,
+from planetviz.tables.parameterization import (MU_S_MIN, mu_s_from_x_mu_s, r_mu_from_transmittance_uv,
                                                r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
-                                               scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu)
+                                               scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu,
+                                               unit_range_from_texcoord)
 from planetviz.tables.precompute import QUALITY, precompute
 from planetviz.tables.sampling import _axis, texture2d
 
@@ -81,19 +82,33 @@ def test_texture_reads_are_linear_interpolation_between_texel_centres():
     assert np.allclose(texture2d(table[0], u, v)[:, 0], 3.0 * (v * 7 - 0.5) - (u * 9 - 0.5))
 
 
-def test_scattering_lookup_is_two_trilinear_fetches_blended_along_nu():
-    rng = np.random.default_rng(4)
-    table = rng.random((6, 10, 4, 8, 2))
+def test_scattering_lookup_is_linear_in_r_and_mu_and_geometric_in_mu_s_and_nu():
+    # A table that is linear in the r and mu texel indices and exponential in the mu_s and nu ones is read
+    # back exactly at any continuous texel coordinate: the lookup interpolates r and mu linearly (the
+    # hardware's part) and mu_s and nu geometrically. Checked against the closed form, not the code.
+    n_r, n_mu, n_nu, n_mu_s = 6, 10, 4, 8
+    k, j, n, s = np.meshgrid(np.arange(n_r), np.arange(n_mu), np.arange(n_nu), np.arange(n_mu_s), indexing="ij")
+    table = ((1.0 + 2.0 * k + 3.0 * j) * np.exp(-0.7 * s + 0.4 * n))[..., None]
     r, mu, mu_s, nu, g = random_geometry(300, seed=5)
     t = type("T", (), {"bottom": B, "top": T})()
-    got = get_scattering(t, table, r, mu, mu_s, nu, g)
-    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, (4, 8, 10, 6))
-    c = u_nu * 3
-    i = np.clip(np.floor(c), 0, 2)
-    f = (c - i)[:, None]
-    tex = table.reshape(6, 10, 32, 2)
-    want = texture3d(tex, (i + u_mu_s) / 4, u_mu, u_r) * (1 - f) + texture3d(tex, (i + 1 + u_mu_s) / 4, u_mu, u_r) * f
-    assert np.allclose(got, want, rtol=1e-6)   # float32 weights
+    got = get_scattering(t, table, r, mu, mu_s, nu, g)[:, 0]
+    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, (n_nu, n_mu_s, n_mu, n_r))
+    kc, jc, sc = (u_r * n_r - 0.5), (u_mu * n_mu - 0.5), (u_mu_s * n_mu_s - 0.5)
+    nc = u_nu * (n_nu - 1)
+    want = (1.0 + 2.0 * kc + 3.0 * jc) * np.exp(-0.7 * sc + 0.4 * nc)
+    assert np.allclose(got, want, rtol=1e-9)
+
+
+def test_scattering_lookup_falls_back_to_linear_next_to_zero():
+    # Where a neighbour is 0 (e.g. a texel in the planet's shadow) a geometric blend would snap to 0:
+    # the lookup blends linearly there, so the sky fades continuously into the night.
+    table = np.zeros((2, 4, 1, 4, 1))
+    table[..., 2, 0] = 1.0                       # mu_s texel 2 lit, texel 1 dark
+    t = type("T", (), {"bottom": B, "top": T})()
+    x = (np.array([1.5, 1.25]) + 0.5) / 4                  # texel coordinates 1.5 and 1.25 along mu_s
+    mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(x, 4), B, T)
+    got = get_scattering(t, table, np.full(2, B + 100.0), np.full(2, 0.5), mu_s, np.full(2, 0.5), np.zeros(2, bool))
+    assert np.allclose(got[:, 0], [0.5, 0.25])
 
 
 @pytest.fixture(scope="module")
