@@ -212,3 +212,21 @@ def test_precompute_and_lut_commands(tmp_path):
     with np.load(out) as o:
         assert o["radiance"].shape == (2, 3) and np.all(o["radiance"] > 0)
         assert np.all((o["transmittance"] > 0) & (o["transmittance"] < 1))
+
+
+def test_twilight_fades_smoothly_past_the_end_of_the_tables():
+    # The tables stop at the sun 18 deg below the horizon. Past it the sky must keep darkening (no glow
+    # frozen at the last texel's value) and show no step at -18 deg: between -17.9 and -18.1 deg it may
+    # change only by the local twilight decay (measured ~9% per 0.2 deg; bound 30%).
+    tables = precompute(EARTH, QUALITY["draft"])
+    cam = np.tile([0.0, 0.0, B + 2.0], (3, 1))
+    views = np.array([[0, 0, 1.0], [0.99, 0, 0.14], [-0.99, 0, 0.14]])
+    els = np.array([-12, -16, -17.9, -18.1, -20, -30, -60, -90.0])
+    radiance = []
+    for el in np.radians(els):
+        radiance.append(sky_radiance(tables, EARTH, cam, views, [np.cos(el), 0, np.sin(el)])[0])
+    radiance = np.array(radiance)                    # (sun, view, W)
+    assert np.all(np.diff(radiance, axis=0) < 0)
+    step = radiance[3] / radiance[2]
+    assert np.all((step > 0.7) & (step < 1.0))
+    assert np.all(radiance[-1] < 1e-2 * radiance[3])         # measured: 4700x darker at the nadir sun

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .parameterization import (irradiance_uv_from_r_mu_s,
-                               ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu,
-                               transmittance_uv_from_r_mu)
+from .parameterization import (irradiance_uv_from_r_mu_s, ray_intersects_ground,
+                               scattering_uvwz_from_r_mu_mu_s_nu, texcoord_from_unit_range,
+                               transmittance_uv_from_r_mu, x_mu_s_from_mu_s)
 from .sampling import _axis as _texel_axis
 from .sampling import texture2d
 
@@ -102,8 +102,12 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
     coord = u_nu * (n_nu - 1)
     tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
     lerp = (coord - tex_nu)[..., None]
-    s0, s1, fs = _texel_axis(u_mu_s, n_mu_s)
-    fs = fs[..., None]
+    # Along mu_s the blend may extrapolate below the first texel (the sun more than 18 deg below the
+    # horizon): geometrically, the twilight decay continues to 0 instead of freezing at its last value.
+    coord_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, t.bottom, t.top, clamp=False), n_mu_s) * n_mu_s - 0.5
+    s0 = np.clip(np.floor(coord_s), 0, n_mu_s - 2).astype(np.int64)
+    s1 = s0 + 1
+    fs = np.minimum(coord_s - s0, 1.0)[..., None]
     flat = table.reshape(n_r * n_mu, n_nu * n_mu_s, table.shape[-1])
     (k0, k1, fz), (j0, j1, fy) = _texel_axis(u_r, n_r), _texel_axis(u_mu, n_mu)
     fz, fy = fz[..., None], fy[..., None]
@@ -121,7 +125,12 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
 
 
 def _blend(a, b, f):
-    """a^(1 - f) b^f where both are positive, (1 - f) a + f b elsewhere."""
+    """a^(1 - f) b^f where both are positive, (1 - f) a + f b elsewhere.
+
+    f < 0 extrapolates beyond a: geometrically and never above a (so it only continues a decay), or
+    holds a in the linear case."""
     positive = (a > 0) & (b > 0)
     geo = np.exp((1 - f) * np.log(np.where(positive, a, 1.0)) + f * np.log(np.where(positive, b, 1.0)))
-    return np.where(positive, geo, a * (1 - f) + b * f)
+    geo = np.where(f < 0, np.minimum(geo, a), geo)
+    fl = np.maximum(f, 0.0)
+    return np.where(positive, geo, a * (1 - fl) + b * fl)

@@ -119,15 +119,19 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     return u_nu, u_mu_s, u_mu, u_r
 
 
-def x_mu_s_from_mu_s(mu_s, bottom, top):
-    """Bruneton's non-linear sun-zenith coordinate in [0, 1] (0 at mu_s_min, 1 at the zenith)."""
+def x_mu_s_from_mu_s(mu_s, bottom, top, clamp=True):
+    """Bruneton's non-linear sun-zenith coordinate in [0, 1] (0 at mu_s_min, 1 at the zenith).
+
+    ``clamp=False`` lets it go negative below mu_s_min, for ``lookup.get_scattering``'s extrapolation (a
+    texture coordinate below the first texel centre would read the neighbouring nu slice)."""
     h = np.sqrt(top * top - bottom * bottom)
     d = distance_to_top_atmosphere_boundary(bottom, mu_s, top)
     d_min, d_max = top - bottom, h
     a = (d - d_min) / (d_max - d_min)
     big_d = distance_to_top_atmosphere_boundary(bottom, MU_S_MIN, top)
     big_a = (big_d - d_min) / (d_max - d_min)
-    return np.maximum(1.0 - a / big_a, 0.0) / (1.0 + a)
+    x = (1.0 - a / big_a) / (1.0 + a)
+    return np.maximum(x, 0.0) if clamp else x
 
 
 def mu_s_from_x_mu_s(x, bottom, top):
