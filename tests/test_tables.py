@@ -172,8 +172,9 @@ THICK_LOSES_ENERGY = pytest.mark.xfail(strict=True, reason=(
 
 
 MARS_PEAK = pytest.mark.xfail(strict=True, reason=(
-    "known defect (issue 3 note): Mars at standard quality is 16% RMS off the reference, up to -12% at "
-    "550 nm where Table 1's phase is a g = 0.89 forward lobe; cause not isolated yet"))
+    "known defect (issue 3 note, docs/tables.md): Mars at 550 nm, where Table 1's phase puts 96% in a g = 0.89 "
+    "lobe, reads up to +95% over the reference (multiple scattering 3x too bright looking away from the sun); "
+    "finer direction sets make it worse, so it is not a resolution error; cause not isolated"))
 
 
 @pytest.mark.parametrize("preset", ["earth", pytest.param("mars", marks=[MARS_PEAK, pytest.mark.slow]),
