@@ -173,8 +173,9 @@ THICK_LOSES_ENERGY = pytest.mark.xfail(strict=True, reason=(
 
 MARS_PEAK = pytest.mark.xfail(strict=True, reason=(
     "known defect (issue 3 note, docs/tables.md): Mars at 550 nm, where Table 1's phase puts 96% in a g = 0.89 "
-    "lobe, reads up to +95% over the reference (multiple scattering 3x too bright looking away from the sun); "
-    "finer direction sets make it worse, so it is not a resolution error; cause not isolated"))
+    "lobe, reads up to +95% over the reference: the scattering density J is sharply peaked toward the sun "
+    "(second-order aureole) and the multiple-scattering table's mu texels near the zenith (20 deg apart) "
+    "interpolate the peak into other directions; order 2 alone is 3.3x a direct integration (docs/tables.md)"))
 
 
 @pytest.mark.parametrize("preset", ["earth", pytest.param("mars", marks=[MARS_PEAK, pytest.mark.slow]),
