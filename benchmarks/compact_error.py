@@ -32,7 +32,7 @@ def main():
         atm = load_atmosphere(name)
         tables = precompute(atm, QUALITY[args.quality], cache=TableCache())
         t0 = time.perf_counter()
-        compact = compact_tables(tables)
+        compact = compact_tables(tables, atm)
         build = time.perf_counter() - t0
         cams, views, suns, el = query_set(atm)
         full, _ = sky_radiance(tables, atm, cams, views, suns)

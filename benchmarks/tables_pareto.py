@@ -105,6 +105,7 @@ SWEEP = {
     "multiple 4x32x64x16": dict(multiple=(4, 32, 64, 16)),
     "multiple 4x32x32x8": dict(multiple=(4, 32, 32, 8)),
     "dirs 8x8": dict(directions=(8, 8)),
+    "dirs 12x12": dict(directions=(12, 12)),
     "dirs 16x16": dict(directions=(16, 16)),
     "ms nodes 4": dict(multiple_samples=4),
     "ms nodes 8": dict(multiple_samples=8),

@@ -27,7 +27,7 @@ def test_compact_table_of_an_azimuth_free_field_is_exact():
     shape = tables.rayleigh.shape
     field = rng.random(shape[:2] + (1, shape[3], shape[4])).astype(np.float32)
     tables.rayleigh = np.broadcast_to(field, shape).copy()
-    compact = compact_tables(tables, size=(8, 16, 8), azimuths=8)
+    compact = compact_tables(tables, EARTH, size=(8, 16, 8), azimuths=8)
     n_h, n_mu, n_mu_s = compact.rayleigh.shape[:3]
     x_h = unit_range_from_texcoord((np.arange(n_h) + 0.5) / n_h, n_h)
     r = tables.bottom + x_h ** 2 * (tables.top - tables.bottom)
@@ -49,7 +49,7 @@ def test_compact_daylight_sky_from_the_ground_is_close_to_the_4d_tables():
     # measured 0.6% RMS on the benchmark's random views (docs/benchmarks.md). Bound 3%: a compact table
     # built at the wrong coordinates, or phases applied twice or not at all, is off by 20% or more.
     tables = precompute(EARTH, QUALITY["draft"])
-    compact = compact_tables(tables, azimuths=8)
+    compact = compact_tables(tables, EARTH, azimuths=8)
     rng = np.random.default_rng(3)
     n = 200
     z = np.arccos(rng.uniform(0.2, 1.0, n))

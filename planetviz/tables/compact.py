@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .lookup import get_scattering
+from .multiple import forward_factor
 from .parameterization import clamp_cosine, ray_intersects_ground, texcoord_from_unit_range, unit_range_from_texcoord
 from .sampling import texture3d
 
@@ -64,7 +65,7 @@ class CompactTables:
         return sum(a.nbytes for a in (self.optical_depth, self.irradiance, self.rayleigh, self.mie, self.multiple))
 
 
-def compact_tables(tables, size=COMPACT_SIZE, azimuths: int = 16) -> CompactTables:
+def compact_tables(tables, atm, size=COMPACT_SIZE, azimuths: int = 16) -> CompactTables:
     """The compact tables of a 4D set: each texel the average over ``azimuths`` sun-view azimuths (midpoint rule)."""
     n_h, n_mu, n_mu_s = size
     x_h = unit_range_from_texcoord((np.arange(n_h) + 0.5) / n_h, n_h)
@@ -75,9 +76,11 @@ def compact_tables(tables, size=COMPACT_SIZE, azimuths: int = 16) -> CompactTabl
     rr, mm, ss, ww = np.meshgrid(r, mu, mu_s, omega, indexing="ij")
     nu = clamp_cosine(mm * ss + np.sqrt((1 - mm * mm) * (1 - ss * ss)) * np.cos(ww))
     ground = ray_intersects_ground(rr, mm, tables.bottom)
-    out = {}
-    for name in ("rayleigh", "mie", "multiple"):
-        out[name] = get_scattering(tables, getattr(tables, name), rr, mm, ss, nu, ground).mean(3).astype(np.float32)
+    out = {name: get_scattering(tables, getattr(tables, name), rr, mm, ss, nu, ground).mean(3).astype(np.float32)
+           for name in ("rayleigh", "mie")}
+    multiple = (get_scattering(tables, tables.multiple, rr, mm, ss, nu, ground)
+                + forward_factor(atm, nu) * get_scattering(tables, tables.multiple_mie, rr, mm, ss, nu, ground))
+    out["multiple"] = multiple.mean(3).astype(np.float32)
     return CompactTables(tables.bottom, tables.top, tables.optical_depth, tables.irradiance, **out)
 
 

@@ -17,18 +17,21 @@ import numpy as np
 
 from ..geometry import ray_sphere
 from .compact import CompactTables, get_compact_scattering
+from .multiple import forward_factor
 from .lookup import (get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, get_transmittance_to_top_atmosphere_boundary)
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
 
 def _phased(tables, atm, r, mu, mu_s, nu, ground):
+    """In-scattered radiance (..., W): single scattering with its phases, plus multiple scattering."""
     if isinstance(tables, CompactTables):
         s_r, s_m, s_ms = (get_compact_scattering(tables, table, r, mu, mu_s)
                           for table in (tables.rayleigh, tables.mie, tables.multiple))
     else:
-        s_r, s_m, s_ms = (get_scattering(tables, table, r, mu, mu_s, nu, ground)
-                          for table in (tables.rayleigh, tables.mie, tables.multiple))
+        s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground)
+                                    for table in (tables.rayleigh, tables.mie, tables.multiple, tables.multiple_mie))
+        s_ms = s_ms + forward_factor(atm, nu) * s_ms_mie
     return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu) + s_ms
 
 

@@ -16,7 +16,9 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
 3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only);
 4. S_n(r, mu, mu_s, nu) = int_0^d T(x, x_t) J_n(r_t, mu_t, mu_s,t, nu) dt (J read from its table).
 
-S_n is radiance (phase included) and accumulates into one table; E into the irradiance table. Orders
+S_n is radiance (phase included) and accumulates into two tables, the light last scattered by molecules
+and that last scattered by particles divided by ``forward_factor`` (with the particles' part of J), so
+that a sharp forward lobe leaves a slowly varying table; E accumulates into the irradiance table. Orders
 stop when the tail estimated from the ratio q of the last two orders, S_n q / (1 - q), is below
 ``tolerance`` of the total (both for scattering and irradiance), or at ``max_orders``.
 """
@@ -29,7 +31,7 @@ from .lookup import (apply_stencil, get_irradiance, get_scattering, get_transmit
 from .parameterization import (distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
-from ..optics.phase import PENNDORF_A
+from ..optics.phase import PENNDORF_A, double_henyey_greenstein
 
 
 def direction_quadrature(n_theta: int, n_phi: int):
@@ -73,7 +75,9 @@ class _Incident:
                    + get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground)
                    * atm.mie.phase_function(self.nu))
         else:
-            sky = apply_stencil(ms_prev, *self.stencil)
+            both = apply_stencil(ms_prev, *self.stencil)
+            W = both.shape[-1] // 2
+            sky = both[..., :W] + forward_factor(atm, self.nu) * both[..., W:]
         if not self.with_ground:
             return sky
         bottom = np.full(self.mu_s_g.shape, tables.bottom)
@@ -82,6 +86,19 @@ class _Incident:
         else:
             e = get_irradiance(tables, bottom, self.mu_s_g, table=irr_prev)
         return sky + self.ground_factor * e
+
+
+def forward_factor(atm, nu):
+    """F(nu) = alpha HG(nu; g1^2) + (1 - alpha) HG(nu; g2^2), (..., W) [1/sr]: the angular shape of light
+    scattered twice by the particles (a Henyey-Greenstein lobe convolved with itself is the lobe of g^2).
+
+    The particles' share of the scattering density and of the multiple-scattering table is stored divided
+    by F(nu) and multiplied back on reading: with a forward lobe like Mars dust's (g = 0.89) the raw values
+    peak so sharply toward the sun that interpolating them between texels 20 deg apart mixes the peak into
+    other directions; divided by F they vary slowly.
+    """
+    g1, g2, alpha = (np.asarray(x, dtype=float) for x in (atm.mie.g1, atm.mie.g2, atm.mie.alpha))
+    return double_henyey_greenstein(np.asarray(nu, dtype=float)[..., None], g1 * g1, g2 * g2, alpha)
 
 
 def _view_vectors(mu, mu_s, nu):
@@ -122,7 +139,8 @@ def _mie_kernels(atm, v, dirs, weights):
 
 def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
                         progress=None):
-    """(multiple-scattering table (n_r, n_mu, n_nu, n_mu_s, W), indirect irradiance, highest order used)."""
+    """(multiple-scattering tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by molecules and by
+    particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used)."""
     from .precompute import ray_nodes, scattering_grid
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
     shape = r.shape
@@ -146,6 +164,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     beta_r = np.asarray(atm.rayleigh.scattering_m)
     beta_m = np.asarray(atm.mie.scattering_m)
     mie_kernels = _mie_kernels(atm, views, dirs, weights)
+    forward = forward_factor(atm, nu)                          # (n_r, n_mu, n_nu, n_mu_s, W)
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders.
     d = np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, tables.bottom),
@@ -162,7 +181,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     node_weight = np.concatenate([path_weight * atm.rayleigh.profile.density(h_t)[..., None],
                                   path_weight * atm.mie.profile.density(h_t)[..., None]], -1).astype(np.float32)
 
-    total = np.zeros(shape + (W,))
+    total = np.zeros(shape + (2 * W,))
     irradiance = np.zeros(r_irr.shape + (W,))
     ms_prev = irr_prev = None
     last = None
@@ -180,22 +199,22 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         J = np.empty(shape + (2 * W,), np.float32)
         J[..., :W] = beta_r * (m0[:, None, None] + a_coef * quad) / (4 * np.pi * (1 + a_coef / 3))
         for w in range(W):
-            J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w])
+            J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w]) / forward[..., w]
         jt = apply_stencil(J, *path_stencil)
-        SJ = np.einsum("...kw,...kw->...w", node_weight, jt)
-        S = (SJ[..., :W] + SJ[..., W:]).astype(np.float64)
+        S = np.einsum("...kw,...kw->...w", node_weight, jt).astype(np.float64)   # [S_R, S_M / F(nu)]
         total += S
         irradiance += e
         ms_prev, irr_prev = S, e
-        size_now = S.sum()
+        size_now = (S[..., :W] + forward * S[..., W:]).sum()
         if last is not None and last > 0:
             q = min(size_now / last, 0.999)
-            if size_now * q / (1 - q) < tolerance * total.sum() and \
+            if size_now * q / (1 - q) < tolerance * (total[..., :W] + forward * total[..., W:]).sum() and \
                     e.sum() * q / (1 - q) < tolerance * max(irradiance.sum(), 1e-300):
                 break
-        if progress and total.sum() > 0:
-            progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / total.sum()))
+        done = (total[..., :W] + forward * total[..., W:]).sum()
+        if progress and done > 0:
+            progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / done))
         last = size_now
     if progress:
         progress(f"multiple scattering, {order} orders", 1.0)
-    return total, irradiance, order
+    return total[..., :W], total[..., W:], irradiance, order

@@ -53,7 +53,7 @@ QUALITY = {
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         multiple_samples=4, directions=(8, 8), tolerance=1e-2),
     "standard": TableSizes(scattering=(8, 32, 64, 32), scattering_samples=10, multiple=(4, 32, 32, 8),
-                           multiple_samples=6, directions=(12, 12), tolerance=3e-3),
+                           multiple_samples=6, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
 }
 
@@ -70,13 +70,14 @@ class Tables:
     rayleigh: np.ndarray
     mie: np.ndarray
     multiple: np.ndarray | None = None
+    multiple_mie: np.ndarray | None = None
     timings: dict = field(default_factory=dict)
     orders: int = 1
     computed: list = field(default_factory=list)
 
     @property
     def nbytes(self) -> int:
-        tables = (self.optical_depth, self.irradiance, self.rayleigh, self.mie, self.multiple)
+        tables = (self.optical_depth, self.irradiance, self.rayleigh, self.mie, self.multiple, self.multiple_mie)
         return sum(a.nbytes for a in tables if a is not None)
 
 
@@ -187,6 +188,7 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     shapes = {"transmittance": {"optical_depth": (n_r_t, n_mu_t, W)},
               "single_scattering": {"rayleigh": (n_r, n_mu, n_nu, n_mu_s, W), "mie": (n_r, n_mu, n_nu, n_mu_s, W)},
               "multiple_scattering": {"multiple": (m_r, m_mu, m_nu, m_mu_s, W),
+                                      "multiple_mie": (m_r, m_mu, m_nu, m_mu_s, W),
                                       "irradiance": sizes.irradiance[::-1] + (W,)}}
     timings, computed = {}, []
 
@@ -215,14 +217,15 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
                    lambda: (dict(zip(("rayleigh", "mie"), single_scattering(tables, atm, progress))), {}))
     tables.rayleigh, tables.mie = single["rayleigh"], single["mie"]
     tables.multiple = np.zeros(shapes["multiple_scattering"]["multiple"], np.float32)
+    tables.multiple_mie = np.zeros_like(tables.multiple)
     if multiple:
         def orders():
-            ms, irr, n = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
-                                             samples=sizes.multiple_samples, tolerance=sizes.tolerance,
-                                             progress=progress)
-            return {"multiple": ms, "irradiance": irr}, {"orders": int(n)}
+            ms, ms_mie, irr, n = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
+                                                     samples=sizes.multiple_samples, tolerance=sizes.tolerance,
+                                                     progress=progress)
+            return {"multiple": ms, "multiple_mie": ms_mie, "irradiance": irr}, {"orders": int(n)}
         ms = stage("multiple_scattering", orders)
-        tables.multiple, tables.irradiance = ms["multiple"], ms["irradiance"]
+        tables.multiple, tables.multiple_mie, tables.irradiance = ms["multiple"], ms["multiple_mie"], ms["irradiance"]
         tables.orders = int(ms["attrs"]["orders"])
     tables.timings, tables.computed = timings, computed
     return tables
