@@ -90,14 +90,14 @@ def apply_stencil(table, idx, wts):
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
     """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) read as the shader reads its 3D texture (n_r, n_mu, n_nu * n_mu_s).
 
-    Along nu, two fetches blended linearly (the shader's mix()). Along mu_s the two neighbouring texels are
-    fetched separately (each at its exact texel centre, so the hardware interpolates only r and mu) and
-    blended geometrically, a^(1 - f) b^f, or linearly where one of them is 0: in twilight the in-scattered
-    light falls by a factor of about 4 per degree of sun elevation, which a linear blend over texels a
-    degree apart overestimates several times, while the geometric blend is exact for an exponential.
+    Along mu_s and nu the two neighbouring texels are fetched separately (each at its exact texel centre, so
+    the hardware interpolates only r and mu: four texture() calls in the shader) and blended geometrically,
+    a^(1 - f) b^f, or linearly where one of them is 0: in twilight the in-scattered light falls by a factor
+    of about 4 per degree of sun elevation, which a linear blend over texels a degree apart overestimates
+    several times, while the geometric blend is exact for an exponential.
     """
     n_r, n_mu, n_nu, n_mu_s = table.shape[:4]
-    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
+    u_nu, _, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
                                                                 t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r))
     coord = u_nu * (n_nu - 1)
     tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
