@@ -141,7 +141,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
                         progress=None):
     """(multiple-scattering tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by molecules and by
     particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used)."""
-    from .precompute import ray_nodes, scattering_grid
+    from .precompute import ray_nodes, scattering_grid, split_ray_nodes
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
     shape = r.shape
     W = atm.n_wavelengths
@@ -169,7 +169,11 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders.
     d = np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, tables.bottom),
                  distance_to_top_atmosphere_boundary(r, mu, tables.top))
-    t, wt = ray_nodes(r, mu, d, samples)
+    if np.max(atm.vertical_optical_depth()) > 1.0:       # thick: nodes within the first attenuation lengths too
+        t1, w1 = split_ray_nodes(atm, r[:, :, :1, :1], mu[:, :, :1, :1], d[:, :, :1, :1], samples)
+        t, wt = np.broadcast_to(t1, shape + t1.shape[-1:]), np.broadcast_to(w1, shape + w1.shape[-1:])
+    else:
+        t, wt = ray_nodes(r, mu, d, samples)
     rr, mm, ss, nn, gg = (np.broadcast_to(a[..., None], t.shape) for a in (r, mu, mu_s, nu, ground))
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * rr * mm * t + rr * rr, 0.0)), tables.bottom, tables.top)
     mu_t = np.clip((rr * mm + t) / r_t, -1.0, 1.0)

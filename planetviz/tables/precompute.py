@@ -86,15 +86,51 @@ def _texel_centres(n):
 
 
 def ray_nodes(r, mu, d, n):
-    """Quadrature nodes t (..., 2n) and weights on [0, d] along (r, mu), clustered at the closest approach."""
+    """Quadrature nodes t (..., 2n) and weights on [0, d] along (r, mu), clustered at the closest approach.
+
+    Gauss-Legendre with t = t_c -+ span u^2 on each side of the closest approach t_c; where t_c is an end of
+    the ray (rays going up, or reaching the ground before their closest approach) all 2n nodes go to the
+    one side there is.
+    """
     x, w = np.polynomial.legendre.leggauss(n)
     u, wu = 0.5 * (x + 1.0), 0.5 * w
+    x2, w2 = np.polynomial.legendre.leggauss(2 * n)
+    u2, wu2 = 0.5 * (x2 + 1.0), 0.5 * w2
+    dd = np.asarray(d, dtype=float)[..., None]
     tc = np.clip(-r * mu, 0.0, d)[..., None]
     before = tc - tc * u * u                      # t from t_c down to 0
-    after = tc + (d[..., None] - tc) * u * u      # t from t_c up to d
+    after = tc + (dd - tc) * u * u                # t from t_c up to d
     wb = 2.0 * tc * u * wu
-    wa = 2.0 * (d[..., None] - tc) * u * wu
-    return np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
+    wa = 2.0 * (dd - tc) * u * wu
+    t, wt = np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
+    one_side = dd * u2 * u2, 2.0 * dd * u2 * wu2            # clustered at t = 0
+    t = np.where(tc <= 0.0, one_side[0], np.where(tc >= dd, dd - one_side[0], t))
+    wt = np.where((tc <= 0.0) | (tc >= dd), one_side[1], wt)
+    return t, wt
+
+
+def split_ray_nodes(atm, r, mu, d, n, depth=3.0, fine=64):
+    """:func:`ray_nodes` on two segments of the ray, split where the optical depth of the most extinguished
+    wavelength reaches ``depth`` (or at d): (..., 4n) nodes and weights.
+
+    For optically thick atmospheres, where the in-scattered light comes from the first attenuation lengths
+    (a few hundred metres at tau = 4) while the more transparent wavelengths see tens of kilometres: one
+    Gauss-Legendre rule over the whole ray puts its first nodes kilometres apart.
+    """
+    r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
+    tf, wf = ray_nodes(r, mu, d, fine)
+    order = np.argsort(tf, -1)
+    tf, wf = np.take_along_axis(tf, order, -1), np.take_along_axis(wf, order, -1)
+    beta = atm.extinction(_altitude(r[..., None], mu[..., None], tf, atm.bottom_radius_m)).max(-1)
+    tau = np.cumsum(beta * wf, -1)
+    reached = tau >= depth
+    first = np.where(reached.any(-1), np.argmax(reached, -1), tf.shape[-1] - 1)
+    t_split = np.where(reached.any(-1), np.take_along_axis(tf, first[..., None], -1)[..., 0], d)
+    t1, w1 = ray_nodes(r, mu, t_split, n)
+    r_s = np.sqrt(np.maximum(t_split * t_split + 2.0 * r * mu * t_split + r * r, 0.0))
+    mu_s = np.clip((r * mu + t_split) / np.maximum(r_s, 1e-300), -1.0, 1.0)
+    t2, w2 = ray_nodes(r_s, mu_s, d - t_split, n)
+    return np.concatenate([t1, t_split[..., None] + t2], -1), np.concatenate([w1, w2], -1)
 
 
 def _altitude(r, mu, t, bottom):
