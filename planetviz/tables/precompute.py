@@ -53,7 +53,7 @@ QUALITY = {
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         multiple_samples=4, directions=(8, 8), tolerance=1e-2),
     "standard": TableSizes(scattering=(8, 32, 64, 32), scattering_samples=10, multiple=(4, 32, 32, 8),
-                           multiple_samples=6, directions=(10, 10), tolerance=3e-3),
+                           multiple_samples=4, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
 }
 
