@@ -59,6 +59,7 @@ class _Incident:
         self.mu = np.broadcast_to(dirs[:, 2], shape)
         self.nu = dirs[:, 0] * np.sqrt(np.maximum(1 - self.mu_s ** 2, 0.0)) + dirs[:, 2] * self.mu_s
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
+        self.forward = None
         self.stencil = scattering_stencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
@@ -77,7 +78,9 @@ class _Incident:
         else:
             both = apply_stencil(ms_prev, *self.stencil)
             W = both.shape[-1] // 2
-            sky = both[..., :W] + forward_factor(atm, self.nu) * both[..., W:]
+            if self.forward is None:                  # the same every order: computed once
+                self.forward = forward_factor(atm, self.nu)
+            sky = both[..., :W] + self.forward * both[..., W:]
         if not self.with_ground:
             return sky
         bottom = np.full(self.mu_s_g.shape, tables.bottom)
@@ -210,12 +213,12 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         irradiance += e
         ms_prev, irr_prev = S, e
         size_now = (S[..., :W] + forward * S[..., W:]).sum()
+        done = (total[..., :W] + forward * total[..., W:]).sum()
         if last is not None and last > 0:
             q = min(size_now / last, 0.999)
-            if size_now * q / (1 - q) < tolerance * (total[..., :W] + forward * total[..., W:]).sum() and \
+            if size_now * q / (1 - q) < tolerance * done and \
                     e.sum() * q / (1 - q) < tolerance * max(irradiance.sum(), 1e-300):
                 break
-        done = (total[..., :W] + forward * total[..., W:]).sum()
         if progress and done > 0:
             progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / done))
         last = size_now
