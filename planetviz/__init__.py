@@ -10,5 +10,13 @@ Example
 from .atmosphere import Atmosphere, AtmosphereError
 from .presets import PRESETS, load_atmosphere
 
-__all__ = ["Atmosphere", "AtmosphereError", "PRESETS", "load_atmosphere"]
+__all__ = ["Atmosphere", "AtmosphereError", "PRESETS", "Scene", "load_atmosphere"]
+
+
+def __getattr__(name):
+    # The renderer imports VTK and PyVista: loaded on first use, so the physics stays light to import.
+    if name == "Scene":
+        from .render.scene import Scene
+        return Scene
+    raise AttributeError(f"module 'planetviz' has no attribute {name!r}")
 __version__ = "0.1.0"

@@ -42,3 +42,23 @@ def radiance_to_srgb(radiance, atm, exposure=None):
         exposure = 0.8 / peak if peak > 0 else 1.0
     encoded = colour.cctf_encoding(np.clip(rgb * exposure, 0.0, 1.0), function="sRGB")
     return np.round(encoded * 255).astype(int)
+
+
+def linear_srgb_matrix(atm):
+    """(W, 3) matrix M with linear sRGB = L @ M for radiance L per unit irradiance (..., W) lit by the
+    atmosphere's star: the star's spectrum, the CIE 1931 functions (683 lm/W, so the luminance is in cd/m^2)
+    and colour-science's XYZ -> sRGB matrix (linear in XYZ, so applied to the rows)."""
+    import colour
+    from .optics.light import star_irradiance
+    xyz = star_irradiance(atm.star, atm.wavelengths_nm)[:, None] * xyz_matrix(atm.wavelengths_nm)
+    return colour.XYZ_to_sRGB(xyz, apply_cctf_encoding=False)
+
+
+def albedo_matrix(wavelengths_nm):
+    """(3, W) matrix A with albedo(lambda) = linear sRGB colour @ A: a colour texture read as a reflectance
+    spectrum, piecewise linear through the sRGB primaries' dominant wavelengths (B 465 nm, G 549 nm, R 612 nm)
+    and held constant beyond them, so a grey texel reflects every wavelength equally."""
+    wl = np.asarray(wavelengths_nm, dtype=float)
+    centres = np.array([612.0, 549.0, 465.0])
+    order = np.argsort(centres)
+    return np.stack([np.interp(wl, centres[order], np.eye(3)[c][order]) for c in range(3)])

@@ -56,35 +56,42 @@ def get_irradiance(t, r, mu_s, table=None):
 
 
 def scattering_stencil(t, shape, r, mu, mu_s, nu, intersects_ground):
-    """Flat texel indices (..., 16) and weights (..., 16) of a 4D lookup in a table of ``shape``
-    (n_r, n_mu, n_nu, n_mu_s): two trilinear fetches of the 3D texture (n_r, n_mu, n_nu * n_mu_s)
-    blended along nu, exactly as the shader's two texture() calls and mix()."""
+    """A 4D lookup in a table of ``shape`` (n_r, n_mu, n_nu, n_mu_s) prepared for many tables read at the
+    same points: flat texel indices (..., 2, 8), weights (..., 2, 8) and the mu_s fraction f (...).
+
+    ``[..., 0, :]`` are the eight (r, mu, nu) neighbours at the lower mu_s texel, ``[..., 1, :]`` at the
+    upper one, each set weighted to sum to 1; :func:`apply_stencil` blends the two sets along mu_s as
+    :func:`get_scattering` does (geometrically), so the precompute reads its own tables as the renderer
+    reads the final ones."""
     n_r, n_mu, n_nu, n_mu_s = shape
     u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
                                                                 t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r))
     coord = u_nu * (n_nu - 1)
     tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
     lerp = coord - tex_nu
+    s0, s1, fs = _texel_axis(u_mu_s, n_mu_s)
+    (j0, j1, fy), (k0, k1, fz) = _texel_axis(u_mu, n_mu), _texel_axis(u_r, n_r)
     n_x = n_nu * n_mu_s
-    idx, wts = [], []
+    idx, wts = ([], []), ([], [])
     for dn, wn in ((0, 1.0 - lerp), (1, lerp)):
         if n_nu == 1 and dn == 1:
             continue
-        x = (tex_nu + dn + u_mu_s) / n_nu
-        (i0, i1, fx), (j0, j1, fy), (k0, k1, fz) = (_texel_axis(x, n_x), _texel_axis(u_mu, n_mu),
-                                                    _texel_axis(u_r, n_r))
+        base = (tex_nu + dn).astype(np.int64) * n_mu_s
         for kk, wz in ((k0, 1 - fz), (k1, fz)):
             for jj, wy in ((j0, 1 - fy), (j1, fy)):
-                for ii, wx in ((i0, 1 - fx), (i1, fx)):
-                    idx.append((kk * n_mu + jj) * n_x + ii)
-                    wts.append(wn * wz * wy * wx)
-    return np.stack(idx, -1), np.stack(wts, -1).astype(np.float32)
+                for side, ss in enumerate((s0, s1)):
+                    idx[side].append((kk * n_mu + jj) * n_x + base + ss)
+                    wts[side].append(wn * wz * wy)
+    idx = np.stack([np.stack(i, -1) for i in idx], -2)
+    wts = np.stack([np.stack(w, -1) for w in wts], -2).astype(np.float32)
+    return idx, wts, fs.astype(np.float32)
 
 
-def apply_stencil(table, idx, wts):
-    """sum_c table[idx_c] w_c for a table (n_r, n_mu, n_nu, n_mu_s, W); returns (..., W)."""
+def apply_stencil(table, idx, wts, f):
+    """A table (n_r, n_mu, n_nu, n_mu_s, W) read through :func:`scattering_stencil`: (..., W)."""
     flat = table.reshape(-1, table.shape[-1])
-    return np.einsum("...c,...cw->...w", wts, flat[idx])
+    sides = np.einsum("...sc,...scw->...sw", wts, flat[idx])
+    return geometric_blend(sides[..., 0, :], sides[..., 1, :], f[..., None])
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
@@ -120,11 +127,11 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
     slices = []
     for dn in (0, 1) if n_nu > 1 else (0,):
         base = (tex_nu + dn).astype(np.int64) * n_mu_s
-        slices.append(_blend(bilinear(base + s0), bilinear(base + s1), fs))
-    return slices[0] if n_nu == 1 else _blend(slices[0], slices[1], lerp)
+        slices.append(geometric_blend(bilinear(base + s0), bilinear(base + s1), fs))
+    return slices[0] if n_nu == 1 else geometric_blend(slices[0], slices[1], lerp)
 
 
-def _blend(a, b, f):
+def geometric_blend(a, b, f):
     """a^(1 - f) b^f where both are positive, (1 - f) a + f b elsewhere.
 
     f < 0 extrapolates beyond a: geometrically and never above a (so it only continues a decay), or

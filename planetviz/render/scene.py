@@ -1,0 +1,221 @@
+"""``Scene``: a PyVista plotter showing a planet and its atmosphere, from orbit to the ground.
+
+Positions are planet-centred, in metres; the planet's north pole is +z. Sites are given by latitude and
+longitude [deg]; the sun by its elevation and azimuth (from north, through east) [deg] seen from a site.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pyvista as pv
+
+from ..atmosphere import Atmosphere
+from ..presets import load_atmosphere
+from ..color import linear_srgb_matrix
+from ..optics.light import star_irradiance
+from ..tables.cache import TableCache
+from ..tables.precompute import QUALITY, precompute
+from .atmosphere_actor import TONE_MAPPINGS, AtmosphereActor, DisplaySettings
+from .hdr import render_spectral, write_exr
+from .surface import surface_texture
+
+
+def local_frame(latitude_deg, longitude_deg):
+    """(up, east, north) unit vectors at a site on the planet."""
+    lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)
+    up = np.array([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)])
+    east = np.array([-np.sin(lon), np.cos(lon), 0.0])
+    north = np.array([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
+    return up, east, north
+
+
+def site_direction(elevation_deg, azimuth_deg, latitude_deg=0.0, longitude_deg=0.0):
+    """Unit vector at elevation and azimuth (from north, through east) seen from a site."""
+    up, east, north = local_frame(latitude_deg, longitude_deg)
+    el, az = np.radians(elevation_deg), np.radians(azimuth_deg)
+    return np.cos(el) * (np.cos(az) * north + np.sin(az) * east) + np.sin(el) * up
+
+
+@dataclass
+class HDRImage:
+    """Linear float output of :meth:`Scene.render_hdr`.
+
+    ``radiance``: (h, w, W) per unit solar irradiance [1/sr] at ``wavelengths_nm``, as ``planetviz radiance``
+    gives it; ``spectral_radiance``: the same times the star's irradiance [W m^-2 sr^-1 nm^-1];
+    ``linear_srgb``: (h, w, 3), CIE luminance in cd/m^2, not tone-mapped."""
+
+    radiance: np.ndarray
+    spectral_radiance: np.ndarray
+    linear_srgb: np.ndarray
+    wavelengths_nm: tuple
+
+    def save_exr(self, path, metadata=None):
+        write_exr(path, self.linear_srgb, self.spectral_radiance, self.wavelengths_nm, metadata or {})
+
+
+class Scene(pv.Plotter):
+    """A planet with its atmosphere, rendered from precomputed tables (paper Sect. 5).
+
+    Parameters
+    ----------
+    atmosphere : str, Path or Atmosphere
+        A preset name (``"earth"``, ``"mars"``, ...), an atmosphere file or an :class:`Atmosphere`.
+    quality : str
+        Table quality: ``"draft"``, ``"standard"`` or ``"high"``.
+    surface : str or ndarray or None
+        ``"texture"``: the planet's colour map from ``assets/textures`` where there is one (else the
+        atmosphere's ground albedo); ``None``: the atmosphere file's uniform ground albedo; or an (h, w, 3)
+        uint8 sRGB equirectangular image.
+    exposure : float
+        Multiplies linear sRGB (cd/m^2) before tone mapping; 1e-4 suits daylight, twilight needs ~1e-2.
+    tone_mapping : str
+        ``"exponential"`` (the paper's 1 - exp(-x)), ``"filmic"`` or ``"clamp"``.
+
+    Examples
+    --------
+    >>> import planetviz
+    >>> scene = planetviz.Scene("earth", quality="draft", off_screen=True, window_size=(320, 240))
+    >>> scene.view_from_ground(latitude=45, heading=90, pitch=5)
+    >>> scene.set_sun(elevation=3, azimuth=90)
+    >>> scene.screenshot("sunset.png")  # doctest: +SKIP
+    >>> hdr = scene.render_hdr()       # linear radiance, float32
+    """
+
+    def __init__(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
+                 tone_mapping="exponential", window_size=(960, 540), cache=True, **kwargs):
+        super().__init__(window_size=list(window_size), **kwargs)
+        self.ren_win.SetMultiSamples(0)
+        self.set_background("black")
+        self.renderer.SetNearClippingPlaneTolerance(1e-6)
+        self.planet = None
+        self._site = (0.0, 0.0)
+        self.add_planet(atmosphere, quality=quality, surface=surface, exposure=exposure,
+                        tone_mapping=tone_mapping, cache=cache)
+        self.view_from_space()
+        self.set_sun(elevation=30.0, azimuth=135.0)
+
+    # --------------------------------------------------------------------------------------------- planet
+    def add_planet(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
+                   tone_mapping="exponential", cache=True):
+        """Add (or replace) the planet: precompute or load its tables, upload them, return the actor."""
+        atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
+        if quality not in QUALITY:
+            raise ValueError(f"quality: one of {', '.join(QUALITY)}, got {quality!r}")
+        if tone_mapping not in TONE_MAPPINGS:
+            raise ValueError(f"tone_mapping: one of {', '.join(TONE_MAPPINGS)}, got {tone_mapping!r}")
+        if not (np.isfinite(exposure) and exposure > 0):
+            raise ValueError(f"exposure: a positive finite number, got {exposure!r}")
+        tables = precompute(atm, QUALITY[quality], cache=TableCache() if cache else None)
+        image = surface_texture(atm) if isinstance(surface, str) and surface == "texture" else surface
+        if self.planet is not None:
+            self.remove_actor(self.planet.actor)
+            self.planet.release()
+        settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
+        sun = None if self.planet is None else self.planet.sun_direction
+        self.planet = AtmosphereActor(atm, tables, self.renderer, surface=image, settings=settings)
+        if sun is not None:
+            self.planet.sun_direction = sun
+        self.add_actor(self.planet.actor, reset_camera=False, name="planet")
+        return self.planet
+
+    @property
+    def atmosphere(self):
+        return self.planet.atmosphere
+
+    @property
+    def settings(self):
+        """The shader's :class:`DisplaySettings` (exposure, tone mapping, sun disc)."""
+        return self.planet.settings
+
+    # ------------------------------------------------------------------------------------------------ sun
+    def set_sun(self, elevation=30.0, azimuth=0.0, latitude=None, longitude=None):
+        """Put the sun at ``elevation`` and ``azimuth`` [deg] seen from a site (default: the point below the
+        camera)."""
+        for name, value, lo, hi in (("elevation", elevation, -90, 90), ("azimuth", azimuth, -360, 360)):
+            if not (np.isfinite(value) and lo <= value <= hi):
+                raise ValueError(f"sun {name}: [{lo}, {hi}] deg, got {value!r}")
+        lat, lon = self._site if latitude is None else (latitude, longitude if longitude is not None else 0.0)
+        self.planet.sun_direction = site_direction(elevation, azimuth, lat, lon)
+
+    @property
+    def sun_direction(self):
+        return self.planet.sun_direction.copy()
+
+    @sun_direction.setter
+    def sun_direction(self, value):
+        v = np.asarray(value, dtype=float)
+        if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
+            raise ValueError(f"sun_direction: a finite non-zero 3-vector, got {value!r}")
+        self.planet.sun_direction = v / np.linalg.norm(v)
+
+    # --------------------------------------------------------------------------------------------- camera
+    def set_view(self, position, direction, up=None, fov=60.0):
+        """Camera at ``position`` [m, planet-centred] looking along ``direction``, vertical field of view
+        ``fov`` [deg]; ``up`` defaults to the local vertical."""
+        pos = np.asarray(position, dtype=float)
+        d = np.asarray(direction, dtype=float)
+        r = np.linalg.norm(pos)
+        if not (np.all(np.isfinite(pos)) and r >= self.atmosphere.bottom_radius_m):
+            raise ValueError(f"camera position: finite and at or above the ground "
+                             f"(|position| >= {self.atmosphere.bottom_radius_m:g} m), got {position!r}")
+        if not (np.all(np.isfinite(d)) and np.linalg.norm(d) > 0):
+            raise ValueError(f"view direction: a finite non-zero 3-vector, got {direction!r}")
+        if not (0 < fov < 180):
+            raise ValueError(f"fov: (0, 180) deg, got {fov!r}")
+        d = d / np.linalg.norm(d)
+        up = pos / r if up is None else np.asarray(up, dtype=float)
+        if abs(np.dot(up / np.linalg.norm(up), d)) > 0.999:
+            up = np.cross(d, [1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.cross(d, [0.0, 1.0, 0.0])
+        cam = self.renderer.GetActiveCamera()
+        cam.SetPosition(*pos)
+        cam.SetFocalPoint(*(pos + d * max(1.0, 1e-3 * r)))
+        cam.SetViewUp(*up)
+        cam.SetViewAngle(fov)
+        self.renderer.ResetCameraClippingRange()
+
+    def view_from_space(self, distance=None, latitude=0.0, longitude=0.0, fov=30.0):
+        """Camera at ``distance`` [m] from the planet's centre (default: 4 planet radii) above a site, looking at
+        the centre, north up."""
+        distance = 4.0 * self.atmosphere.bottom_radius_m if distance is None else float(distance)
+        up, _, north = local_frame(latitude, longitude)
+        self._site = (latitude, longitude)
+        self.set_view(up * distance, -up, up=north, fov=fov)
+
+    def view_from_ground(self, latitude=0.0, longitude=0.0, altitude=2.0, heading=0.0, pitch=10.0, fov=60.0):
+        """Camera ``altitude`` [m] above a site looking toward ``heading`` (azimuth from north, deg), ``pitch``
+        [deg] above the horizontal."""
+        if not (np.isfinite(altitude) and altitude >= 0):
+            raise ValueError(f"altitude: >= 0 m, got {altitude!r}")
+        up, _, _ = local_frame(latitude, longitude)
+        self._site = (latitude, longitude)
+        self.set_view(up * (self.atmosphere.bottom_radius_m + altitude),
+                      site_direction(pitch, heading, latitude, longitude), fov=fov)
+
+    def screenshot(self, filename=None, **kwargs):
+        """The current view as 8-bit sRGB (tone-mapped), rendered afresh (PyVista reuses the last frame)."""
+        self.render()
+        return super().screenshot(filename, **kwargs)
+
+    # ----------------------------------------------------------------------------------------------- HDR
+    def render_hdr(self, path=None):
+        """Linear radiance of the current view as an :class:`HDRImage` (float32, read back from a float
+        framebuffer, not tone-mapped); with ``path``, also written as OpenEXR."""
+        atm = self.atmosphere
+        radiance = render_spectral(self.planet, self.ren_win)
+        spectral = radiance * star_irradiance(atm.star, atm.wavelengths_nm).astype(np.float32)
+        rgb = (radiance @ linear_srgb_matrix(atm).astype(np.float32)).astype(np.float32)
+        hdr = HDRImage(radiance, spectral, rgb, tuple(atm.wavelengths_nm))
+        if path is not None:
+            cam = self.renderer.GetActiveCamera()
+            hdr.save_exr(Path(path), {"atmosphere": atm.name, "camera_position_m": list(cam.GetPosition()),
+                                      "sun_direction": list(map(float, self.planet.sun_direction)),
+                                      "R,G,B": "linear sRGB, luminance in cd/m^2",
+                                      "L.*": "spectral radiance, W m^-2 sr^-1 nm^-1"})
+        return hdr
+
+    def close(self, *args, **kwargs):
+        if self.planet is not None and self.ren_win is not None:
+            self.planet.release()
+        return super().close(*args, **kwargs)

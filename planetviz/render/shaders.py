@@ -1,0 +1,19 @@
+"""GLSL sources: the files in the repository's ``shaders/`` folder."""
+from __future__ import annotations
+
+from pathlib import Path
+
+SHADERS = Path(__file__).resolve().parents[2] / "shaders"
+
+
+def load_shader(name: str) -> str:
+    """The text of ``shaders/<name>``; a clear error when the file is missing."""
+    path = SHADERS / name
+    if not path.is_file():
+        raise FileNotFoundError(f"shader {name!r} not found in {SHADERS} (is the repository complete?)")
+    return path.read_text()
+
+
+def fragment_code() -> str:
+    """Declarations and functions inserted into the atmosphere actor's fragment shader."""
+    return load_shader("atmosphere_functions.glsl") + "\n" + load_shader("atmosphere_fragment.glsl")

@@ -1,0 +1,69 @@
+"""The tables as GPU textures: NumPy packing (no VTK) and upload through ``vtkTextureObject``.
+
+Wavelengths go four to a texel (RGBA) in groups; group g holds wavelengths 4g .. 4g + 3 and the groups are
+stacked along the r axis (y of the 2D tables, z of the 3D ones). The shaders read a group only between its own
+texel centres (``texture_group`` and ``get_scattering`` in shaders/atmosphere_functions.glsl), so filtering never
+mixes two groups. Float tables stay 32-bit (GL_RGBA32F): half floats would cost up to 2^-11 = 0.05% per texel,
+which the 1% agreement test could absorb, but the tables are 14 MB at standard quality, so nothing is gained.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+MAX_GROUPS = 16
+
+
+def group_count(n_wavelengths: int) -> int:
+    """Number of RGBA groups for ``n_wavelengths`` (at most 64 wavelengths)."""
+    g = -(-n_wavelengths // 4)
+    if g > MAX_GROUPS:
+        raise ValueError(f"wavelengths: at most {4 * MAX_GROUPS} can be rendered, got {n_wavelengths}")
+    return g
+
+
+def pad_groups(values, fill=0.0):
+    """(..., W) -> (..., G, 4): the last axis padded to whole groups of four."""
+    v = np.asarray(values, dtype=np.float32)
+    g = group_count(v.shape[-1])
+    out = np.full(v.shape[:-1] + (4 * g,), fill, np.float32)
+    out[..., :v.shape[-1]] = v
+    return out.reshape(v.shape[:-1] + (g, 4))
+
+
+def pack_2d(table):
+    """A 2D table (n_r, n_x, W) as an RGBA image (G n_r, n_x, 4), the groups stacked along y."""
+    t = pad_groups(table)                                   # (n_r, n_x, G, 4)
+    return np.ascontiguousarray(np.moveaxis(t, 2, 0).reshape(-1, t.shape[1], 4))
+
+
+def pack_3d(table):
+    """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) as an RGBA volume (G n_r, n_mu, n_nu n_mu_s, 4): x runs over
+    the nu slices of mu_s, y over mu, z over r, the groups stacked along z."""
+    n_r, n_mu, n_nu, n_mu_s = table.shape[:4]
+    t = pad_groups(np.asarray(table).reshape(n_r, n_mu, n_nu * n_mu_s, -1))   # (n_r, n_mu, X, G, 4)
+    return np.ascontiguousarray(np.moveaxis(t, 3, 0).reshape(-1, n_mu, n_nu * n_mu_s, 4))
+
+
+def upload(render_window, image, repeat_x=False):
+    """A ``vtkTextureObject`` holding ``image``: (h, w, c) -> 2D, (d, h, w, c) -> 3D; float32 or uint8 data;
+    linear filtering, clamped to the edge (``repeat_x``: wrap along x, for a longitude axis)."""
+    from vtkmodules.vtkCommonCore import VTK_FLOAT, VTK_UNSIGNED_CHAR
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+    data = np.ascontiguousarray(image)
+    kind = {np.dtype(np.float32): VTK_FLOAT, np.dtype(np.uint8): VTK_UNSIGNED_CHAR}[data.dtype]
+    tex = vtkTextureObject()
+    tex.SetContext(render_window)
+    if data.ndim == 3:
+        h, w, c = data.shape
+        ok = tex.Create2DFromRaw(w, h, c, kind, data)
+    else:
+        d, h, w, c = data.shape
+        ok = tex.Create3DFromRaw(w, h, d, c, kind, data)
+    if not ok:
+        raise RuntimeError(f"could not create a {data.ndim - 1}D texture of shape {data.shape}")
+    tex.SetMinificationFilter(vtkTextureObject.Linear)
+    tex.SetMagnificationFilter(vtkTextureObject.Linear)
+    tex.SetWrapS(vtkTextureObject.Repeat if repeat_x else vtkTextureObject.ClampToEdge)
+    tex.SetWrapT(vtkTextureObject.ClampToEdge)
+    tex.SetWrapR(vtkTextureObject.ClampToEdge)
+    return tex

@@ -1,0 +1,230 @@
+// Table parameterisations, lookups and phase functions: the GLSL twins of planetviz/tables/parameterization.py,
+// planetviz/tables/lookup.py, planetviz/optics/phase.py and planetviz/tables/multiple.py (forward_factor).
+// Every function carries the name of its NumPy twin; tests/test_render.py checks that the two agree.
+//
+// Notation as in the NumPy code: r = distance to the planet centre [m], mu = cos(view zenith),
+// mu_s = cos(sun zenith), nu = cos(view-sun angle). Radiance is per unit solar irradiance [1/sr], one vec4 per
+// group of four wavelengths (group g holds wavelengths 4g .. 4g + 3).
+//
+// Uniforms (set by planetviz/render/atmosphere_actor.py for every draw):
+//   bottom_radius, top_radius   float  planet and top-of-atmosphere radii [m]
+//   mu_s_min                    float  cos(108 deg): the lowest sun the tables cover (18 deg below the horizon)
+//   group_count                 int    number of wavelength groups G (1 .. MAX_GROUPS)
+//   transmittance_size          vec2   optical-depth table (n_mu, n_r)
+//   irradiance_size             vec2   irradiance table (n_mu_s, n_r)
+//   single_size                 vec4   single-scattering tables (n_nu, n_mu_s, n_mu, n_r)
+//   multiple_size               vec4   multiple-scattering tables (n_nu, n_mu_s, n_mu, n_r)
+//   optical_depth_texture       sampler2D  tau(r, mu) to the top; x: mu, y: r, the G groups stacked along y
+//   irradiance_texture          sampler2D  indirect irradiance E(r, mu_s); x: mu_s, y: r, groups along y
+//   single_rayleigh_texture     sampler3D  S_R(r, mu, mu_s, nu); x: nu slices of mu_s, y: mu, z: r, groups along z
+//   single_mie_texture          sampler3D  S_M, same layout
+//   multiple_texture            sampler3D  multiple scattering last scattered by molecules (phase included)
+//   multiple_mie_texture        sampler3D  multiple scattering last scattered by particles, divided by forward_factor
+//   rayleigh_anisotropy         float  A in P_R = (1 + A nu^2) / (4 pi (1 + A / 3)): 1 Rayleigh, 0.932 Penndorf
+//   mie_g1, mie_g2, mie_alpha   vec4[MAX_GROUPS]  the double Henyey-Greenstein parameters per wavelength
+
+#define MAX_GROUPS 16
+const float PI = 3.14159265358979;
+
+uniform float bottom_radius;
+uniform float top_radius;
+uniform float mu_s_min;
+uniform int group_count;
+uniform vec2 transmittance_size;
+uniform vec2 irradiance_size;
+uniform vec4 single_size;
+uniform vec4 multiple_size;
+uniform sampler2D optical_depth_texture;
+uniform sampler2D irradiance_texture;
+uniform sampler3D single_rayleigh_texture;
+uniform sampler3D single_mie_texture;
+uniform sampler3D multiple_texture;
+uniform sampler3D multiple_mie_texture;
+uniform float rayleigh_anisotropy;
+uniform vec4 mie_g1[MAX_GROUPS];
+uniform vec4 mie_g2[MAX_GROUPS];
+uniform vec4 mie_alpha[MAX_GROUPS];
+
+float safe_sqrt(float a) { return sqrt(max(a, 0.0)); }
+float clamp_cosine(float mu) { return clamp(mu, -1.0, 1.0); }
+
+// rho = sqrt(r^2 - R_b^2) as (r - R_b)(r + R_b): no cancellation for a camera metres above the ground.
+float rho_of(float r) { return safe_sqrt((r - bottom_radius) * (r + bottom_radius)); }
+
+// d >= 0 along (r, mu) to the top of the atmosphere, r <= top.
+float distance_to_top_atmosphere_boundary(float r, float mu) {
+    float disc = r * r * (mu * mu - 1.0) + top_radius * top_radius;
+    return max(-r * mu + safe_sqrt(disc), 0.0);
+}
+
+// d >= 0 along (r, mu) to the ground, in the stable form c / q with c = (r - R_b)(r + R_b).
+float distance_to_bottom_atmosphere_boundary(float r, float mu) {
+    float c = (r - bottom_radius) * (r + bottom_radius);
+    float disc = r * r * mu * mu - c;
+    float q = -r * mu + safe_sqrt(disc);
+    return q > 0.0 ? max(c / q, 0.0) : 0.0;
+}
+
+bool ray_intersects_ground(float r, float mu) {
+    return mu < 0.0 && r * r * mu * mu - (r - bottom_radius) * (r + bottom_radius) >= 0.0;
+}
+
+float texcoord_from_unit_range(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
+
+// ------------------------------------------------------------------------------------------- transmittance
+vec2 transmittance_uv_from_r_mu(float r, float mu) {
+    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
+    float rho = rho_of(r);
+    float d = distance_to_top_atmosphere_boundary(r, mu);
+    float d_min = top_radius - r;
+    float d_max = rho + h;
+    float x_mu = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
+    return vec2(texcoord_from_unit_range(x_mu, transmittance_size.x),
+                texcoord_from_unit_range(rho / h, transmittance_size.y));
+}
+
+// A 2D table's texel of group g: the groups are stacked along y, and v never leaves its group's texel centres.
+vec4 texture_group(sampler2D table, vec2 uv, int g) {
+    return texture(table, vec2(uv.x, (float(g) + uv.y) / float(group_count)));
+}
+
+vec4 get_optical_depth_to_top_atmosphere_boundary(float r, float mu, int g) {
+    return texture_group(optical_depth_texture, transmittance_uv_from_r_mu(r, mu), g);
+}
+
+vec4 get_transmittance_to_top_atmosphere_boundary(float r, float mu, int g) {
+    return exp(-get_optical_depth_to_top_atmosphere_boundary(r, mu, g));
+}
+
+// T between (r, mu) and the point at distance d: a difference of optical depths; ground rays use the reversed ray.
+vec4 get_transmittance(float r, float mu, float d, bool intersects_ground, int g) {
+    float r_d = clamp(sqrt(max(d * d + 2.0 * r * mu * d + r * r, 0.0)), bottom_radius, top_radius);
+    float mu_d = clamp_cosine((r * mu + d) / r_d);
+    vec4 near_tau, far_tau;
+    if (intersects_ground) {
+        near_tau = get_optical_depth_to_top_atmosphere_boundary(r_d, -mu_d, g);
+        far_tau = get_optical_depth_to_top_atmosphere_boundary(r, -mu, g);
+    } else {
+        near_tau = get_optical_depth_to_top_atmosphere_boundary(r, mu, g);
+        far_tau = get_optical_depth_to_top_atmosphere_boundary(r_d, mu_d, g);
+    }
+    return exp(-max(near_tau - far_tau, 0.0));
+}
+
+vec4 get_transmittance_to_sun(float r, float mu_s, int g) {
+    return ray_intersects_ground(r, mu_s) ? vec4(0.0) : get_transmittance_to_top_atmosphere_boundary(r, mu_s, g);
+}
+
+// ---------------------------------------------------------------------------------------------- irradiance
+vec2 irradiance_uv_from_r_mu_s(float r, float mu_s) {
+    float x_r = (r - bottom_radius) / (top_radius - bottom_radius);
+    float x_mu_s = mu_s * 0.5 + 0.5;
+    return vec2(texcoord_from_unit_range(x_mu_s, irradiance_size.x), texcoord_from_unit_range(x_r, irradiance_size.y));
+}
+
+vec4 get_irradiance(float r, float mu_s, int g) {
+    return texture_group(irradiance_texture, irradiance_uv_from_r_mu_s(r, mu_s), g);
+}
+
+// ---------------------------------------------------------------------------------------------- scattering
+// Bruneton's sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation).
+float x_mu_s_from_mu_s(float mu_s) {
+    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
+    float d_min = top_radius - bottom_radius;
+    float d_max = h;
+    float a = (distance_to_top_atmosphere_boundary(bottom_radius, mu_s) - d_min) / (d_max - d_min);
+    float big_a = (distance_to_top_atmosphere_boundary(bottom_radius, mu_s_min) - d_min) / (d_max - d_min);
+    return (1.0 - a / big_a) / (1.0 + a);
+}
+
+// (u_nu, u_mu_s, u_mu, u_r) of a table of size (n_nu, n_mu_s, n_mu, n_r); u_mu_s clamped as in NumPy.
+vec4 scattering_uvwz_from_r_mu_mu_s_nu(float r, float mu, float mu_s, float nu, bool intersects_ground, vec4 size) {
+    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
+    float rho = rho_of(r);
+    float u_r = texcoord_from_unit_range(rho / h, size.w);
+    float r_mu = r * mu;
+    float disc = r_mu * r_mu - (r - bottom_radius) * (r + bottom_radius);
+    float u_mu;
+    if (intersects_ground) {
+        float d = distance_to_bottom_atmosphere_boundary(r, mu);
+        float d_min = r - bottom_radius;
+        float d_max = rho;
+        float x = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
+        u_mu = 0.5 - 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
+    } else {
+        float d = -r_mu + safe_sqrt(disc + h * h);
+        float d_min = top_radius - r;
+        float d_max = rho + h;
+        u_mu = 0.5 + 0.5 * texcoord_from_unit_range((d - d_min) / (d_max - d_min), size.z / 2.0);
+    }
+    float u_mu_s = texcoord_from_unit_range(max(x_mu_s_from_mu_s(mu_s), 0.0), size.y);
+    return vec4((nu + 1.0) / 2.0, u_mu_s, u_mu, u_r);
+}
+
+// a^(1 - f) b^f where both are positive, (1 - f) a + f b elsewhere; f < 0 continues a decay (never above a).
+vec4 geometric_blend(vec4 a, vec4 b, float f) {
+    vec4 positive = vec4(greaterThan(a, vec4(0.0))) * vec4(greaterThan(b, vec4(0.0)));
+    vec4 geo = exp((1.0 - f) * log(max(a, 1e-37)) + f * log(max(b, 1e-37)));
+    if (f < 0.0) geo = min(geo, a);
+    float fl = max(f, 0.0);
+    return mix(a * (1.0 - fl) + b * fl, geo, positive);
+}
+
+// The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel
+// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu.
+vec4 get_scattering(sampler3D table, vec4 size, float r, float mu, float mu_s, float nu, bool intersects_ground,
+                    int g) {
+    float n_nu = size.x, n_mu_s = size.y;
+    vec4 uvwz = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, size);
+    float coord = uvwz.x * (n_nu - 1.0);
+    float tex_nu = clamp(floor(coord), 0.0, max(n_nu - 2.0, 0.0));
+    float lerp_nu = coord - tex_nu;
+    float coord_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s), n_mu_s) * n_mu_s - 0.5;
+    float s0 = clamp(floor(coord_s), 0.0, n_mu_s - 2.0);
+    float fs = min(coord_s - s0, 1.0);
+    float z = (float(g) + uvwz.w) / float(group_count);
+    vec4 slices[2];
+    for (int dn = 0; dn < 2; ++dn) {
+        float base = (tex_nu + float(dn)) * n_mu_s;
+        vec4 a = texture(table, vec3((base + s0 + 0.5) / (n_nu * n_mu_s), uvwz.z, z));
+        vec4 b = texture(table, vec3((base + s0 + 1.5) / (n_nu * n_mu_s), uvwz.z, z));
+        slices[dn] = geometric_blend(a, b, fs);
+    }
+    return n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
+}
+
+// --------------------------------------------------------------------------------------------------- phases
+float rayleigh_phase(float nu) { return 3.0 / (16.0 * PI) * (1.0 + nu * nu); }
+
+float penndorf_phase(float nu) { return (1.0 + 0.932 * nu * nu) / (4.0 * PI * (1.0 + 0.932 / 3.0)); }
+
+// The molecules' phase with the atmosphere's anisotropy (rayleigh_phase for A = 1, penndorf_phase for 0.932).
+float rayleigh_like_phase(float nu) {
+    float a = rayleigh_anisotropy;
+    return (1.0 + a * nu * nu) / (4.0 * PI * (1.0 + a / 3.0));
+}
+
+vec4 henyey_greenstein(float nu, vec4 g) {
+    return (1.0 - g * g) / (4.0 * PI * pow(1.0 + g * g - 2.0 * g * nu, vec4(1.5)));
+}
+
+vec4 double_henyey_greenstein(float nu, vec4 g1, vec4 g2, vec4 alpha) {
+    return alpha * henyey_greenstein(nu, g1) + (1.0 - alpha) * henyey_greenstein(nu, g2);
+}
+
+// The twice-scattered particle lobe F(nu) = DHG(nu; g1^2, g2^2, alpha) of group g.
+vec4 forward_factor(float nu, int g) {
+    return double_henyey_greenstein(nu, mie_g1[g] * mie_g1[g], mie_g2[g] * mie_g2[g], mie_alpha[g]);
+}
+
+// In-scattered radiance of group g: single scattering with its phases plus multiple scattering
+// (the evaluator's _phased).
+vec4 get_phased_scattering(float r, float mu, float mu_s, float nu, bool intersects_ground, int g) {
+    vec4 s_r = get_scattering(single_rayleigh_texture, single_size, r, mu, mu_s, nu, intersects_ground, g);
+    vec4 s_m = get_scattering(single_mie_texture, single_size, r, mu, mu_s, nu, intersects_ground, g);
+    vec4 s_ms = get_scattering(multiple_texture, multiple_size, r, mu, mu_s, nu, intersects_ground, g);
+    vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, r, mu, mu_s, nu, intersects_ground, g);
+    return s_r * rayleigh_like_phase(nu)
+        + s_m * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
+        + s_ms + forward_factor(nu, g) * s_ms_mie;
+}
