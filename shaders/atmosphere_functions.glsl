@@ -161,13 +161,16 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float r, float mu, float mu_s, float nu, 
     return vec4((nu + 1.0) / 2.0, u_mu_s, u_mu, u_r);
 }
 
-// a^(1 - f) b^f where both are positive, (1 - f) a + f b elsewhere; f < 0 continues a decay (never above a).
+// a^(1 - f) b^f, a zero neighbour raised to ZERO_FLOOR times the other (0 where both are 0); f < 0 continues a
+// decay beyond a, never above a.
+const float ZERO_FLOOR = 1e-3;
 vec4 geometric_blend(vec4 a, vec4 b, float f) {
-    vec4 positive = vec4(greaterThan(a, vec4(0.0))) * vec4(greaterThan(b, vec4(0.0)));
-    vec4 geo = exp((1.0 - f) * log(max(a, 1e-37)) + f * log(max(b, 1e-37)));
-    if (f < 0.0) geo = min(geo, a);
-    float fl = max(f, 0.0);
-    return mix(a * (1.0 - fl) + b * fl, geo, positive);
+    vec4 lit = max(vec4(greaterThan(a, vec4(0.0))), vec4(greaterThan(b, vec4(0.0))));
+    vec4 a_f = mix(vec4(1.0), max(a, ZERO_FLOOR * b), lit);
+    vec4 b_f = mix(vec4(1.0), max(b, ZERO_FLOOR * a), lit);
+    vec4 geo = exp((1.0 - f) * log(a_f) + f * log(b_f));
+    if (f < 0.0) geo = min(geo, a_f);
+    return geo * lit;
 }
 
 // The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel

@@ -99,16 +99,19 @@ def test_scattering_lookup_is_linear_in_r_and_mu_and_geometric_in_mu_s_and_nu():
     assert np.allclose(got, want, rtol=1e-9)
 
 
-def test_scattering_lookup_falls_back_to_linear_next_to_zero():
-    # Where a neighbour is 0 (e.g. a texel in the planet's shadow) a geometric blend would snap to 0:
-    # the lookup blends linearly there, so the sky fades continuously into the night.
+def test_scattering_lookup_decays_geometrically_toward_a_zero_texel():
+    # Where a neighbour is 0 (a texel in the planet's shadow) a pure geometric blend would snap to 0 and a
+    # linear one glows (it holds half the lit value half-way into the shadow): the lookup decays
+    # geometrically to ZERO_FLOOR of the lit texel, f^... = ZERO_FLOOR^(1 - f): 1e-3^0.5 at 1.5 and
+    # 1e-3^0.75 at 1.25, exactly.
+    from planetviz.tables.lookup import ZERO_FLOOR
     table = np.zeros((2, 4, 1, 4, 1))
     table[..., 2, 0] = 1.0                       # mu_s texel 2 lit, texel 1 dark
     t = type("T", (), {"bottom": B, "top": T})()
-    x = (np.array([1.5, 1.25]) + 0.5) / 4                  # texel coordinates 1.5 and 1.25 along mu_s
+    x = (np.array([1.5, 1.25, 2.0]) + 0.5) / 4             # texel coordinates 1.5, 1.25 and 2 along mu_s
     mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(x, 4), B, T)
-    got = get_scattering(t, table, np.full(2, B + 100.0), np.full(2, 0.5), mu_s, np.full(2, 0.5), np.zeros(2, bool))
-    assert np.allclose(got[:, 0], [0.5, 0.25])
+    got = get_scattering(t, table, np.full(3, B + 100.0), np.full(3, 0.5), mu_s, np.full(3, 0.5), np.zeros(3, bool))
+    assert np.allclose(got[:, 0], [ZERO_FLOOR ** 0.5, ZERO_FLOOR ** 0.75, 1.0], rtol=1e-6)
 
 
 @pytest.fixture(scope="module")

@@ -173,7 +173,25 @@ class Scene(pv.Plotter):
         cam.SetFocalPoint(*(pos + d * max(1.0, 1e-3 * r)))
         cam.SetViewUp(*up)
         cam.SetViewAngle(fov)
+        self.renderer.camera.is_set = True          # PyVista must not reset it on the first render
         self.renderer.ResetCameraClippingRange()
+
+    def pixel_directions(self, rows, cols):
+        """Unit view directions (..., 3) through the centres of pixels (rows from the top of the image), as the
+        fragment shader computes them."""
+        u = self.planet.camera_uniforms()
+        x0, y0, w, h = u["viewport"][1]
+        rows, cols = np.asarray(rows, dtype=float), np.asarray(cols, dtype=float)
+        ndc_x = (cols + 0.5 - x0) / w * 2 - 1
+        ndc_y = ((h - 1 - rows) + 0.5 - y0) / h * 2 - 1
+        v = (u["camera_forward"][1] + ndc_x[..., None] * u["camera_right"][1]
+             + ndc_y[..., None] * u["camera_up"][1])
+        return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+    @property
+    def camera_position(self):
+        """Planet-centred camera position [m] (float64)."""
+        return np.array(self.renderer.GetActiveCamera().GetPosition())
 
     def view_from_space(self, distance=None, latitude=0.0, longitude=0.0, fov=30.0):
         """Camera at ``distance`` [m] from the planet's centre (default: 4 planet radii) above a site, looking at

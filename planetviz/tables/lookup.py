@@ -12,6 +12,9 @@ from .parameterization import (irradiance_uv_from_r_mu_s, ray_intersects_ground,
 from .sampling import _axis as _texel_axis
 from .sampling import texture2d
 
+#: The least a zero texel counts for in :func:`geometric_blend`, relative to its lit neighbour.
+ZERO_FLOOR = 1e-3
+
 
 def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):
     """tau between (r, mu) and the top of the atmosphere (the ray must not hit the ground)."""
@@ -132,12 +135,16 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
 
 
 def geometric_blend(a, b, f):
-    """a^(1 - f) b^f where both are positive, (1 - f) a + f b elsewhere.
+    """a^(1 - f) b^f, with a zero neighbour raised to ZERO_FLOOR times the other (0 where both are 0).
 
-    f < 0 extrapolates beyond a: geometrically and never above a (so it only continues a decay), or
-    holds a in the linear case."""
-    positive = (a > 0) & (b > 0)
-    geo = np.exp((1 - f) * np.log(np.where(positive, a, 1.0)) + f * np.log(np.where(positive, b, 1.0)))
-    geo = np.where(f < 0, np.minimum(geo, a), geo)
-    fl = np.maximum(f, 0.0)
-    return np.where(positive, geo, a * (1 - fl) + b * fl)
+    A texel can hold an exact 0 where the tables end in the planet's shadow (the sun 18 deg below the horizon,
+    rays along the horizon): blending linearly toward it made the last degree before -18 deg glow up to 100
+    times too bright near the horizon (tests/test_render.py, the twilight sweep); the floor keeps the
+    blend geometric, a decay to ZERO_FLOOR of the lit value over one texel. f < 0 extrapolates beyond a,
+    never above a (it only continues a decay)."""
+    lit = (a > 0) | (b > 0)
+    a_f = np.where(lit, np.maximum(a, ZERO_FLOOR * b), 1.0)
+    b_f = np.where(lit, np.maximum(b, ZERO_FLOOR * a), 1.0)
+    geo = np.exp((1 - f) * np.log(a_f) + f * np.log(b_f))
+    geo = np.where(f < 0, np.minimum(geo, a_f), geo)
+    return np.where(lit, geo, 0.0)

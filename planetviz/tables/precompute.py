@@ -37,7 +37,7 @@ class TableSizes:
     """Table resolutions and sample counts (see ``QUALITY`` for the named levels)."""
 
     transmittance: tuple = (256, 64)          # (n_mu, n_r)
-    irradiance: tuple = (64, 16)              # (n_mu_s, n_r)
+    irradiance: tuple = (256, 16)             # (n_mu_s, n_r)
     scattering: tuple = (8, 32, 128, 32)      # (n_nu, n_mu_s, n_mu, n_r)
     transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
     scattering_samples: int = 16              # per side of the closest approach, single scattering
@@ -49,10 +49,10 @@ class TableSizes:
 
 #: Named quality levels (measured in docs/benchmarks.md: precompute time and error against the reference).
 QUALITY = {
-    "draft": TableSizes(transmittance=(128, 32), irradiance=(32, 8), scattering=(4, 16, 64, 16),
+    "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         multiple_samples=4, directions=(8, 8), tolerance=1e-2),
-    "standard": TableSizes(scattering=(8, 32, 64, 32), scattering_samples=10, multiple=(4, 32, 32, 8),
+    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 32, 64, 32), scattering_samples=10, multiple=(4, 32, 32, 8),
                            multiple_samples=4, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
 }

@@ -1,0 +1,277 @@
+"""The VTK renderer (OSMesa off-screen): the shader against the NumPy evaluator, and what a person would see."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+
+from planetviz import load_atmosphere  # noqa: E402
+from planetviz.render import Scene  # noqa: E402
+from planetviz.render.scene import site_direction  # noqa: E402
+
+SIZE = (64, 48)
+
+
+@pytest.fixture(scope="module")
+def earth():
+    scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE)
+    yield scene
+    scene.close()
+
+
+@pytest.fixture(scope="module")
+def mars():
+    scene = Scene("mars", quality="draft", surface=None, off_screen=True, window_size=SIZE)
+    yield scene
+    scene.close()
+
+
+def lut_radiance(scene, preset, rows, cols, tmp_path):
+    """``planetviz radiance --method lut`` for the rays of the given pixels (same quality, same cached tables)."""
+    dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
+    q, out = tmp_path / "q.npz", tmp_path / "out.npz"
+    np.savez(q, camera_m=np.tile(scene.camera_position, (len(dirs), 1)), view_dir=dirs,
+             sun_dir=scene.sun_direction)
+    proc = subprocess.run([sys.executable, "-m", "planetviz", "radiance", "--atmosphere", preset,
+                           "--queries", q, "--out", out, "--method", "lut", "--quality", "draft"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    with np.load(out) as f:
+        return f["radiance"]
+
+
+def away_from_sun(scene, rows, cols, degrees=1.0):
+    """Pixels whose rays are more than ``degrees`` from the sun (the evaluator has no sun disc)."""
+    return scene.pixel_directions(rows, cols) @ scene.sun_direction < np.cos(np.radians(degrees))
+
+
+@pytest.mark.parametrize("view", ["space", "ground", "aircraft"])
+def test_shader_radiance_matches_the_lut_command(earth, view, tmp_path):
+    # The shader and `planetviz radiance --method lut` evaluate the same formulas on the same float32 tables;
+    # they differ by the shader's float32 arithmetic (ray set-up, the near-horizon mu mapping, S(x) - T S(y))
+    # and, on GPUs, by texture filtering with 8-bit interpolation weights (an error of at most 1/512 of the
+    # difference between neighbouring texels, well under 1% for tables that change less than a factor 2 per
+    # texel). Bound: the issue's 1%; measured on llvmpipe: 4e-5.
+    if view == "space":
+        earth.view_from_space(distance=1.6e7, latitude=10, longitude=20, fov=40)
+        earth.set_sun(elevation=40, azimuth=120)
+    elif view == "ground":
+        earth.view_from_ground(latitude=30, altitude=2.0, heading=80, pitch=5, fov=70)
+        earth.set_sun(elevation=20, azimuth=100)
+    else:
+        earth.view_from_ground(latitude=30, altitude=1e4, heading=200, pitch=-10, fov=70)
+        earth.set_sun(elevation=8, azimuth=150)
+    hdr = earth.render_hdr()
+    rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
+    keep = away_from_sun(earth, rows, cols)
+    lut = lut_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
+    got = hdr.radiance[rows, cols]
+    seen = lut.max(-1) > 0
+    assert keep.sum() > 100 and (seen & keep).sum() > 50
+    assert np.array_equal(got.max(-1) > 0, seen)                  # the same pixels see the planet
+    rel = np.abs(got - lut)[keep & seen] / lut[keep & seen]
+    assert rel.max() < 0.01, rel.max()
+
+
+def luminance_image(scene):
+    return scene.render_hdr().linear_srgb
+
+
+def test_earth_noon_zenith_is_bluer_than_the_horizon(earth):
+    earth.view_from_ground(latitude=0, heading=0, pitch=45, fov=95)
+    earth.set_sun(elevation=70, azimuth=180)
+    rgb = luminance_image(earth)
+    h, w = rgb.shape[:2]
+    zenith = rgb[1, w // 2]
+    rows = np.nonzero(rgb[:, w // 2].sum(-1) > 0)[0]
+    d = earth.pixel_directions(np.arange(h), np.full(h, w // 2))
+    horizon_row = np.argmin(np.abs(d @ (earth.camera_position / np.linalg.norm(earth.camera_position)) - 0.02))
+    horizon = rgb[horizon_row, w // 2]
+    assert len(rows) == h
+    assert zenith[2] / zenith[0] > 1.3 * horizon[2] / horizon[0], (zenith, horizon)
+
+
+def sun_colour(scene, elevation):
+    scene.set_sun(elevation=elevation, azimuth=90)
+    sun = scene.sun_direction
+    scene.set_view(scene.camera_position, sun, fov=2.0)        # the disc fills the middle pixels
+    rgb = luminance_image(scene)
+    h, w = rgb.shape[:2]
+    return rgb[h // 2, w // 2]
+
+
+def test_the_sun_is_redder_at_sunset_than_at_noon(earth):
+    earth.view_from_ground(latitude=0, heading=90, pitch=0)
+    noon, sunset = sun_colour(earth, 60.0), sun_colour(earth, 1.0)
+    assert noon.min() > 0 and sunset.min() > 0
+    # Sunset through ~30 air masses: blue falls far more than red (measured B/R 0.16 vs 0.95).
+    assert sunset[2] / sunset[0] < 0.5 * noon[2] / noon[0], (noon, sunset)
+
+
+def test_space_is_black_away_from_the_planet_and_the_night_side_is_dark(earth):
+    earth.view_from_space(distance=4e7, latitude=0, longitude=0, fov=40)
+    earth.set_sun(elevation=-90, azimuth=0)                          # the sun behind the planet
+    night = earth.render_hdr().radiance
+    earth.set_sun(elevation=90, azimuth=0)
+    day = earth.render_hdr().radiance
+    h, w = day.shape[:2]
+    d = earth.pixel_directions(*np.meshgrid(np.arange(h), np.arange(w), indexing="ij"))
+    cam = earth.camera_position
+    closest = np.linalg.norm(cam - (d @ cam)[..., None] * d, axis=-1)
+    off = closest > earth.atmosphere.top_radius_m * 1.001
+    disc = closest < 0.7 * earth.atmosphere.bottom_radius_m
+    assert off.sum() > 100 and disc.sum() > 50
+    assert np.all(day[off] == 0) and np.all(night[off] == 0)
+    # Night side: no direct sun, no first-order sky; what is left is light scattered around the limb many
+    # times, orders of magnitude below the day side (measured ~0 at the disc centre).
+    assert night[disc].max() < 1e-4 * day[disc].mean()
+
+
+MARS_TABLE_1_PHASE = pytest.mark.xfail(strict=True, reason=(
+    "known defect of the mars preset (docs/physics.md, Table 1 Mars phase): with Table 1's double "
+    "Henyey-Greenstein parameters as printed, 550 nm has a g = 0.89 lobe and 440 nm is nearly isotropic, so the "
+    "reference solver itself gives a pink-purple noon sky (zenith sRGB 209, 220, 132; 45 deg from the sun "
+    "142, 82, 128) and a yellow-green glow around the setting sun instead of a blue one"))
+
+
+@MARS_TABLE_1_PHASE
+def test_mars_sky_is_red_brown_at_noon_and_blue_around_the_setting_sun(mars):
+    mars.view_from_ground(latitude=0, heading=0, pitch=30, fov=60)
+    mars.set_sun(elevation=70, azimuth=180)
+    noon = luminance_image(mars)
+    h, w = noon.shape[:2]
+    sky = noon[h // 4, w // 2]
+    assert sky[0] > sky[1] > sky[2], sky                            # red-brown: R > G > B
+    mars.set_sun(elevation=3, azimuth=90)
+    mars.view_from_ground(latitude=0, heading=90, pitch=8, fov=60)
+    dusk = luminance_image(mars)
+    d = mars.pixel_directions(*np.meshgrid(np.arange(h), np.arange(w), indexing="ij"))
+    angle = np.degrees(np.arccos(np.clip(d @ mars.sun_direction, -1, 1)))
+    up = d @ (mars.camera_position / np.linalg.norm(mars.camera_position)) > 0.02
+    near = up & (angle > 2) & (angle < 8)
+    far = up & (angle > 25)
+    assert near.sum() > 5 and far.sum() > 50
+    ratio = lambda m: np.mean(dusk[m][:, 2] / dusk[m][:, 0])
+    assert ratio(near) > 1.2 * ratio(far), (ratio(near), ratio(far))   # the blue glow around the sun
+
+
+def test_hdr_output_is_linear_float_and_written_to_openexr(earth, tmp_path):
+    import OpenEXR
+    from planetviz.color import linear_srgb_matrix
+    earth.view_from_ground(latitude=0, heading=90, pitch=0, fov=10)
+    earth.set_sun(elevation=2, azimuth=90)                         # the sun disc in view: radiance >> 1
+    hdr = earth.render_hdr(tmp_path / "view.exr")
+    assert hdr.radiance.dtype == np.float32 and hdr.radiance.max() > 1e3
+    assert np.allclose(hdr.linear_srgb, hdr.radiance @ linear_srgb_matrix(earth.atmosphere), rtol=1e-4, atol=1e-3)
+    with OpenEXR.File(str(tmp_path / "view.exr"), separate_channels=True) as f:
+        ch = f.channels()
+        assert np.array_equal(ch["G"].pixels, hdr.linear_srgb[..., 1])
+        assert np.array_equal(ch["L.550nm"].pixels, hdr.spectral_radiance[..., 1])
+        assert "earth" in f.header()["planetviz"]
+
+
+def test_tables_are_uploaded_as_32_bit_float_textures(earth):
+    # 16-bit float tables flicker and band (2^-11 steps); every table texture must stay float32.
+    from vtkmodules.vtkCommonCore import VTK_FLOAT
+    earth.render()
+    textures = earth.planet._textures
+    assert textures is not None
+    for name, tex in textures.items():
+        if name != "surface_texture":
+            assert tex.GetVTKDataType() == VTK_FLOAT and tex.GetComponents() == 4, name
+
+
+def test_no_jitter_two_metres_above_the_ground_and_no_jump_at_the_top(earth):
+    R, top = earth.atmosphere.bottom_radius_m, earth.atmosphere.top_radius_m
+    earth.set_sun(elevation=25, azimuth=90)
+    # 2 m above the ground, looking along the horizon: moving 1 cm must not change the picture (float32
+    # positions at 6.4e6 m are 0.5 m apart: a renderer working in absolute coordinates jitters here).
+    earth.view_from_ground(latitude=0, altitude=2.0, heading=60, pitch=0, fov=20)
+    a = earth.render_hdr().radiance
+    earth.view_from_ground(latitude=1e-7, altitude=2.01, heading=60, pitch=0, fov=20)
+    b = earth.render_hdr().radiance
+    assert np.max(np.abs(a - b) / np.maximum(a, 1e-6)) < 2e-3
+    # Crossing the top of the atmosphere: 1 m inside and 1 m outside must agree to 0.1% (issue 7's bound).
+    up = np.array([1.0, 0.0, 0.0])
+    view = np.array([-0.6, 0.8, 0.0])
+    pics = []
+    for r in (top - 1.0, top + 1.0):
+        earth.set_view(up * r, view, fov=30)
+        pics.append(earth.render_hdr().radiance)
+    seen = pics[0] > 1e-6
+    assert seen.sum() > 1000
+    assert np.max(np.abs(pics[0] - pics[1])[seen] / pics[0][seen]) < 1e-3
+
+
+def test_a_planet_far_away_is_drawn_and_matches_the_lut(earth, tmp_path):
+    earth.view_from_space(distance=1e9, latitude=0, longitude=0, fov=1.2)   # the planet: 0.73 deg across
+    earth.set_sun(elevation=60, azimuth=90)
+    hdr = earth.render_hdr()
+    rows, cols = np.meshgrid(np.arange(0, SIZE[1], 3), np.arange(0, SIZE[0], 3), indexing="ij")
+    lut = lut_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
+    got = hdr.radiance[rows, cols]
+    seen = lut.max(-1) > 0
+    assert seen.sum() > 30 and np.array_equal(got.max(-1) > 0, seen)
+    assert np.max(np.abs(got - lut)[seen] / lut[seen]) < 0.01
+
+
+def test_no_band_on_the_ground_below_the_horizon(earth):
+    # The failure of other renderers: S(x) - T(x, y) S(y) computed with inconsistent lookups near the horizon
+    # gives a bright or dark band on the ground just below it. Here the ground's radiance, 0.02 to 3 deg below
+    # the horizon (0.06 deg per row), must grow toward the horizon with no step larger than the smooth trend's
+    # (measured: at most 1.7% per row); a band is a reversal or a jump. Far from the horizon the ground is
+    # flat to 1e-4 (table interpolation kinks), hence the 0.999.
+    earth.set_sun(elevation=15, azimuth=0)
+    earth.view_from_ground(latitude=0, altitude=2.0, heading=180, pitch=-1.5, fov=3.0)
+    lum = earth.render_hdr().linear_srgb[..., 1]
+    h, w = lum.shape
+    d = earth.pixel_directions(np.arange(h), np.full(h, w // 2))
+    mu = d @ (earth.camera_position / np.linalg.norm(earth.camera_position))
+    ground = np.nonzero(mu < -np.sqrt(1 - (earth.atmosphere.bottom_radius_m / np.linalg.norm(earth.camera_position)) ** 2) - 3e-4)[0]
+    column = lum[ground, w // 2]
+    assert len(column) > 20
+    steps = column[:-1] / column[1:]                # rows from the horizon downward
+    assert np.all(steps >= 0.999) and np.all(steps < 1.05), steps
+
+
+def test_twilight_fades_smoothly_to_night(earth):
+    # Sun from 1 to 20 deg below the horizon in 0.5 deg steps, looking at the horizon under it: the sky must
+    # darken at every step (no glow frozen past the tables' -18 deg) and by no more than a factor 3 per step
+    # (no blocky jumps; the physical decay is ~20-40% per 0.5 deg).
+    earth.view_from_ground(latitude=0, altitude=2.0, heading=90, pitch=5, fov=20)
+    lum = []
+    for el in np.arange(-1.0, -20.5, -0.5):
+        earth.set_sun(elevation=el, azimuth=90)
+        lum.append(earth.render_hdr().linear_srgb[..., 1].mean())
+    lum = np.array(lum)
+    assert np.all(lum > 0)
+    ratio = lum[1:] / lum[:-1]
+    assert np.all(ratio < 1.0) and np.all(ratio > 1 / 3), ratio
+
+
+def test_the_daylight_sky_has_no_holes(earth):
+    # The background must never show through a daylight sky: every sky pixel is lit (measured minimum 60% of
+    # the median; bound 20%).
+    earth.view_from_ground(latitude=0, altitude=2.0, heading=0, pitch=60, fov=100)
+    earth.set_sun(elevation=45, azimuth=200)
+    lum = earth.render_hdr().linear_srgb[..., 1]
+    assert lum.min() > 0.2 * np.median(lum)
+
+
+def test_no_banding_in_a_thick_atmosphere():
+    # exo-co2-thick (10 bar, tau = 4 at 440 nm): the sky from the zenith to the horizon changes smoothly, row to
+    # row (48 rows over 90 deg): no step above 15% (measured at most 6%).
+    scene = Scene("exo-co2-thick", quality="draft", surface=None, off_screen=True, window_size=SIZE)
+    try:
+        scene.view_from_ground(latitude=0, altitude=2.0, heading=0, pitch=46, fov=90)
+        scene.set_sun(elevation=30, azimuth=0)
+        lum = scene.render_hdr().linear_srgb[..., 1]
+    finally:
+        scene.close()
+    column = lum[:, SIZE[0] // 2]
+    assert column.min() > 0
+    steps = column[1:] / column[:-1]
+    assert np.all(np.abs(np.log(steps)) < np.log(1.15)), steps
