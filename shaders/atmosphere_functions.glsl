@@ -166,8 +166,8 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float r, float mu, float mu_s, float nu, 
 const float ZERO_FLOOR = 1e-3;
 vec4 geometric_blend(vec4 a, vec4 b, float f) {
     vec4 lit = max(vec4(greaterThan(a, vec4(0.0))), vec4(greaterThan(b, vec4(0.0))));
-    vec4 a_f = mix(vec4(1.0), max(a, ZERO_FLOOR * b), lit);
-    vec4 b_f = mix(vec4(1.0), max(b, ZERO_FLOOR * a), lit);
+    vec4 a_f = mix(vec4(1.0), max(max(a, ZERO_FLOOR * b), 1e-37), lit);
+    vec4 b_f = mix(vec4(1.0), max(max(b, ZERO_FLOOR * a), 1e-37), lit);
     vec4 geo = exp((1.0 - f) * log(a_f) + f * log(b_f));
     if (f < 0.0) geo = min(geo, a_f);
     return geo * lit;

@@ -14,6 +14,8 @@ from .sampling import texture2d
 
 #: The least a zero texel counts for in :func:`geometric_blend`, relative to its lit neighbour.
 ZERO_FLOOR = 1e-3
+#: Values are raised to this before their logarithm (the smallest normal float32 is 1.2e-38).
+SMALLEST = 1e-37
 
 
 def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):
@@ -58,43 +60,49 @@ def get_irradiance(t, r, mu_s, table=None):
     return texture2d(table, u, v)
 
 
-def scattering_stencil(t, shape, r, mu, mu_s, nu, intersects_ground):
-    """A 4D lookup in a table of ``shape`` (n_r, n_mu, n_nu, n_mu_s) prepared for many tables read at the
-    same points: flat texel indices (..., 2, 8), weights (..., 2, 8) and the mu_s fraction f (...).
+class ScatteringStencil:
+    """A 4D lookup in tables of ``shape`` (n_r, n_mu, n_nu, n_mu_s) prepared once for many tables read at the
+    same points (the precompute reads every order's table at fixed points).
 
-    ``[..., 0, :]`` are the eight (r, mu, nu) neighbours at the lower mu_s texel, ``[..., 1, :]`` at the
-    upper one, each set weighted to sum to 1; :func:`apply_stencil` blends the two sets along mu_s as
-    :func:`get_scattering` does (geometrically), so the precompute reads its own tables as the renderer
-    reads the final ones."""
-    n_r, n_mu, n_nu, n_mu_s = shape
-    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
-                                                                t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r))
-    coord = u_nu * (n_nu - 1)
-    tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
-    lerp = coord - tex_nu
-    s0, s1, fs = _texel_axis(u_mu_s, n_mu_s)
-    (j0, j1, fy), (k0, k1, fz) = _texel_axis(u_mu, n_mu), _texel_axis(u_r, n_r)
-    n_x = n_nu * n_mu_s
-    idx, wts = ([], []), ([], [])
-    for dn, wn in ((0, 1.0 - lerp), (1, lerp)):
-        if n_nu == 1 and dn == 1:
-            continue
-        base = (tex_nu + dn).astype(np.int64) * n_mu_s
-        for kk, wz in ((k0, 1 - fz), (k1, fz)):
-            for jj, wy in ((j0, 1 - fy), (j1, fy)):
-                for side, ss in enumerate((s0, s1)):
-                    idx[side].append((kk * n_mu + jj) * n_x + base + ss)
-                    wts[side].append(wn * wz * wy)
-    idx = np.stack([np.stack(i, -1) for i in idx], -2)
-    wts = np.stack([np.stack(w, -1) for w in wts], -2).astype(np.float32)
-    return idx, wts, fs.astype(np.float32)
+    For each point, the eight (r, mu, nu) neighbours at the lower mu_s texel and the eight at the upper one,
+    each set weighted to sum to 1, are kept as two sparse matrices; :meth:`apply` blends the two along mu_s as
+    :func:`get_scattering` does (geometrically), so the precompute reads its own tables as the renderer reads
+    the final ones."""
 
+    def __init__(self, t, shape, r, mu, mu_s, nu, intersects_ground):
+        from scipy.sparse import csr_matrix
+        n_r, n_mu, n_nu, n_mu_s = shape
+        u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
+                                                                    t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r))
+        coord = u_nu * (n_nu - 1)
+        tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
+        lerp = coord - tex_nu
+        s0, s1, fs = _texel_axis(u_mu_s, n_mu_s)
+        (j0, j1, fy), (k0, k1, fz) = _texel_axis(u_mu, n_mu), _texel_axis(u_r, n_r)
+        n_x = n_nu * n_mu_s
+        idx, wts = ([], []), ([], [])
+        for dn, wn in ((0, 1.0 - lerp), (1, lerp)):
+            if n_nu == 1 and dn == 1:
+                continue
+            base = (tex_nu + dn).astype(np.int64) * n_mu_s
+            for kk, wz in ((k0, 1 - fz), (k1, fz)):
+                for jj, wy in ((j0, 1 - fy), (j1, fy)):
+                    for side, ss in enumerate((s0, s1)):
+                        idx[side].append((kk * n_mu + jj) * n_x + base + ss)
+                        wts[side].append(wn * wz * wy)
+        self.shape = np.shape(fs)
+        n_points, n_texels, per_point = int(np.prod(self.shape)), n_r * n_mu * n_x, len(idx[0])
+        indptr = np.arange(n_points + 1) * per_point
+        self.sides = [csr_matrix((np.stack(w, -1).reshape(-1).astype(np.float32),
+                                  np.stack(i, -1).reshape(-1), indptr), shape=(n_points, n_texels))
+                      for i, w in zip(idx, wts)]
+        self.f = fs.reshape(-1, 1).astype(np.float32)
 
-def apply_stencil(table, idx, wts, f):
-    """A table (n_r, n_mu, n_nu, n_mu_s, W) read through :func:`scattering_stencil`: (..., W)."""
-    flat = table.reshape(-1, table.shape[-1])
-    sides = np.einsum("...sc,...scw->...sw", wts, flat[idx])
-    return geometric_blend(sides[..., 0, :], sides[..., 1, :], f[..., None])
+    def apply(self, table):
+        """The table (n_r, n_mu, n_nu, n_mu_s, W) at the stencil's points: (..., W)."""
+        flat = table.reshape(-1, table.shape[-1])
+        lower, upper = (m @ flat for m in self.sides)
+        return geometric_blend(lower, upper, self.f).reshape(self.shape + (flat.shape[-1],))
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
@@ -142,9 +150,9 @@ def geometric_blend(a, b, f):
     times too bright near the horizon (tests/test_render.py, the twilight sweep); the floor keeps the
     blend geometric, a decay to ZERO_FLOOR of the lit value over one texel. f < 0 extrapolates beyond a,
     never above a (it only continues a decay)."""
-    lit = (a > 0) | (b > 0)
-    a_f = np.where(lit, np.maximum(a, ZERO_FLOOR * b), 1.0)
-    b_f = np.where(lit, np.maximum(b, ZERO_FLOOR * a), 1.0)
-    geo = np.exp((1 - f) * np.log(a_f) + f * np.log(b_f))
-    geo = np.where(f < 0, np.minimum(geo, a_f), geo)
-    return np.where(lit, geo, 0.0)
+    a_f = np.maximum(np.maximum(a, ZERO_FLOOR * b), SMALLEST)
+    b_f = np.maximum(np.maximum(b, ZERO_FLOOR * a), SMALLEST)
+    ratio = b_f / a_f                                   # within [ZERO_FLOOR, 1 / ZERO_FLOOR]
+    if np.any(f < 0):
+        ratio = np.where(f < 0, np.maximum(ratio, 1.0), ratio)   # f < 0: the decay continues, never a rise
+    return a_f * np.exp(f * np.log(ratio)) * ((a > 0) | (b > 0))

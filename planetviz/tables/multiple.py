@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .lookup import (apply_stencil, get_irradiance, get_scattering, get_transmittance,
-                     get_transmittance_to_sun, scattering_stencil)
+from .lookup import (ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
+                     get_transmittance_to_sun)
 from .parameterization import (distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
@@ -60,7 +60,7 @@ class _Incident:
         self.nu = dirs[:, 0] * np.sqrt(np.maximum(1 - self.mu_s ** 2, 0.0)) + dirs[:, 2] * self.mu_s
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
         self.forward = None
-        self.stencil = scattering_stencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
+        self.stencil = ScatteringStencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
             d = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
@@ -76,7 +76,7 @@ class _Incident:
                    + get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground)
                    * atm.mie.phase_function(self.nu))
         else:
-            both = apply_stencil(ms_prev, *self.stencil)
+            both = self.stencil.apply(ms_prev)
             W = both.shape[-1] // 2
             if self.forward is None:                  # the same every order: computed once
                 self.forward = forward_factor(atm, self.nu)
@@ -181,7 +181,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * rr * mm * t + rr * rr, 0.0)), tables.bottom, tables.top)
     mu_t = np.clip((rr * mm + t) / r_t, -1.0, 1.0)
     mu_s_t = np.clip((rr * ss + t * nn) / r_t, -1.0, 1.0)
-    path_stencil = scattering_stencil(tables, shape, r_t, mu_t, mu_s_t, nn, gg)
+    path_stencil = ScatteringStencil(tables, shape, r_t, mu_t, mu_s_t, nn, gg)
     path_weight = wt[..., None] * get_transmittance(tables, rr, mm, t, gg)
     h_t = r_t - tables.bottom
     # Node weights with each component's density folded in: (..., K, 2W) against J's 2W channels.
@@ -207,7 +207,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         J[..., :W] = beta_r * (m0[:, None, None] + a_coef * quad) / (4 * np.pi * (1 + a_coef / 3))
         for w in range(W):
             J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w]) / forward[..., w]
-        jt = apply_stencil(J, *path_stencil)
+        jt = path_stencil.apply(J)
         S = np.einsum("...kw,...kw->...w", node_weight, jt).astype(np.float64)   # [S_R, S_M / F(nu)]
         total += S
         irradiance += e
