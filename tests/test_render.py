@@ -275,3 +275,56 @@ def test_no_banding_in_a_thick_atmosphere():
     assert column.min() > 0
     steps = column[1:] / column[:-1]
     assert np.all(np.abs(np.log(steps)) < np.log(1.15)), steps
+
+
+def spectral_atmosphere(n=7):
+    """exo-mdwarf's composition at ``n`` wavelengths (two texture groups, three read-back passes for n = 7)."""
+    import json
+    from pathlib import Path
+    from planetviz.presets import load_dict
+    data = json.loads((Path(__file__).parents[1] / "assets/atmospheres/exo-mdwarf.json").read_text())
+    data["name"] = "exo-mdwarf-spectral"
+    data["wavelengths_nm"] = list(np.linspace(420.0, 700.0, n))
+    data["ground_albedo"] = [0.2] * n
+    data["mie"]["scattering"]["k"] = [0.0092] * n
+    for key in ("g1", "g2", "alpha"):
+        data["mie"]["phase"][key] = [data["mie"]["phase"][key][0]] * n
+    return load_dict(data)
+
+
+def test_a_spectral_atmosphere_renders_every_wavelength(tmp_path):
+    # 7 wavelengths: the tables span two RGBA groups and the float read-back takes three passes; every
+    # wavelength must match the NumPy evaluator (same bound and reason as the 3-wavelength test).
+    from planetviz.tables.evaluator import sky_radiance
+    atm = spectral_atmosphere()
+    scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=SIZE)
+    try:
+        scene.view_from_ground(latitude=0, altitude=2.0, heading=90, pitch=3, fov=60)
+        scene.set_sun(elevation=12, azimuth=100)
+        hdr = scene.render_hdr()
+        rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
+        keep = away_from_sun(scene, rows, cols).ravel()
+        dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
+        lut, _ = sky_radiance(scene.planet.tables, atm, np.tile(scene.camera_position, (len(dirs), 1)), dirs,
+                              scene.sun_direction)
+    finally:
+        scene.close()
+    got = hdr.radiance[rows, cols].reshape(-1, 7)
+    assert hdr.radiance.shape[-1] == 7 and hdr.linear_srgb.shape[-1] == 3
+    assert np.max(np.abs(got - lut)[keep] / lut[keep]) < 0.01
+
+
+def test_the_terminator_seen_from_space_has_no_step(earth):
+    # Across the terminator the ground darkens through the twilight zone by up to a factor 6 per pixel here
+    # (1 pixel ~ 0.6 deg of arc), smoothly: each step (in log) is at most twice the larger of its two
+    # neighbours (measured at most 1.3 times), plus 0.2 for the flat day side. A seam is an isolated jump.
+    earth.view_from_space(distance=1.6e7, latitude=0, longitude=0, fov=40)
+    earth.set_sun(elevation=0, azimuth=90)                            # the terminator through the centre
+    lum = earth.render_hdr().linear_srgb[..., 1]
+    h, w = lum.shape
+    row = lum[h // 2, w // 4: 3 * w // 4]
+    lit = row[row > 0]
+    steps = np.abs(np.diff(np.log(lit)))
+    assert len(lit) > 10
+    neighbours = np.maximum(steps[:-2], steps[2:])
+    assert np.all(steps[1:-1] < 2 * neighbours + 0.2), steps

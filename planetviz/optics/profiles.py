@@ -14,7 +14,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
 
 
 @dataclass(frozen=True)
@@ -61,6 +60,7 @@ class TableProfile:
     densities: tuple
 
     def __post_init__(self):
+        from scipy.interpolate import PchipInterpolator     # here, so the renderer imports without SciPy
         interp = PchipInterpolator(np.asarray(self.altitudes_m, float),
                                    np.asarray(self.densities, float), extrapolate=False)
         object.__setattr__(self, "_interp", interp)

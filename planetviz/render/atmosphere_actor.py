@@ -50,16 +50,19 @@ class AtmosphereActor:
     """A VTK actor drawing the planet, its atmosphere and the sun from precomputed tables.
 
     ``surface``: an (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the
-    atmosphere file's uniform ``ground_albedo``.
+    atmosphere file's uniform ``ground_albedo``. ``half_float_tables`` stores the tables as 16-bit floats on
+    the GPU (only for measuring what that costs; the default 32-bit is what the accuracy tests cover).
     """
 
-    def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, shell_resolution=96):
+    def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, shell_resolution=96,
+                 half_float_tables=False):
         self.atmosphere = atmosphere
         self.tables = tables
         self.renderer = renderer
         self.surface = surface
         self.settings = settings or DisplaySettings()
         self.sun_direction = np.array([1.0, 0.0, 0.0])
+        self.half_float_tables = half_float_tables
         self._textures = None
         self._static = self._static_uniforms()
 
@@ -144,13 +147,13 @@ class AtmosphereActor:
 
     # ---------------------------------------------------------------------------------------- VTK events
     def _create_textures(self, render_window):
-        t = self.tables
-        tex = {"optical_depth_texture": upload(render_window, pack_2d(t.optical_depth)),
-               "irradiance_texture": upload(render_window, pack_2d(t.irradiance)),
-               "single_rayleigh_texture": upload(render_window, pack_3d(t.rayleigh)),
-               "single_mie_texture": upload(render_window, pack_3d(t.mie)),
-               "multiple_texture": upload(render_window, pack_3d(t.multiple)),
-               "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie))}
+        t, half = self.tables, self.half_float_tables
+        tex = {"optical_depth_texture": upload(render_window, pack_2d(t.optical_depth), half_float=half),
+               "irradiance_texture": upload(render_window, pack_2d(t.irradiance), half_float=half),
+               "single_rayleigh_texture": upload(render_window, pack_3d(t.rayleigh), half_float=half),
+               "single_mie_texture": upload(render_window, pack_3d(t.mie), half_float=half),
+               "multiple_texture": upload(render_window, pack_3d(t.multiple), half_float=half),
+               "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half)}
         surface = self.surface if self.surface is not None else np.zeros((1, 1, 3), np.uint8)
         tex["surface_texture"] = upload(render_window, np.ascontiguousarray(surface[::-1]), repeat_x=True)
         return tex

@@ -44,15 +44,22 @@ def pack_3d(table):
     return np.ascontiguousarray(np.moveaxis(t, 3, 0).reshape(-1, n_mu, n_nu * n_mu_s, 4))
 
 
-def upload(render_window, image, repeat_x=False):
+#: OpenGL internal format of half-float RGBA textures (for the precision and speed comparison only).
+GL_RGBA16F = 0x881A
+
+
+def upload(render_window, image, repeat_x=False, half_float=False):
     """A ``vtkTextureObject`` holding ``image``: (h, w, c) -> 2D, (d, h, w, c) -> 3D; float32 or uint8 data;
-    linear filtering, clamped to the edge (``repeat_x``: wrap along x, for a longitude axis)."""
+    linear filtering, clamped to the edge (``repeat_x``: wrap along x, for a longitude axis). ``half_float``
+    stores float data as 16-bit floats on the GPU (benchmarks/gpu_render_timing.py compares the two)."""
     from vtkmodules.vtkCommonCore import VTK_FLOAT, VTK_UNSIGNED_CHAR
     from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
     data = np.ascontiguousarray(image)
     kind = {np.dtype(np.float32): VTK_FLOAT, np.dtype(np.uint8): VTK_UNSIGNED_CHAR}[data.dtype]
     tex = vtkTextureObject()
     tex.SetContext(render_window)
+    if half_float:
+        tex.SetInternalFormat(GL_RGBA16F)
     if data.ndim == 3:
         h, w, c = data.shape
         ok = tex.Create2DFromRaw(w, h, c, kind, data)

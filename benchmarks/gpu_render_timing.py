@@ -1,0 +1,142 @@
+"""Frame time of the table-based renderer on a GPU through EGL, in plain VTK (no PyVista, no SciPy, no
+colour-science: what the stripped VTK bundle of ../shared/notes/gpu-timing.md offers).
+
+    python benchmarks/gpu_render_timing.py prepare gpu-tables.npz          # here: Earth's standard tables
+    python benchmarks/gpu_render_timing.py run gpu-tables.npz [--sizes 1280x720 1920x1080] [--frames 50]
+
+``prepare`` stores the packed tables and the shader's constant uniforms (which need colour-science);
+``run`` builds a window, the same ``AtmosphereActor`` the application uses, and times, per size: a plain
+sphere with VTK's default shading filling the same part of the frame (the frame floor of this GPU, as the
+notes recommend: compare ratios, not absolute figures), then the atmosphere from orbit, from the ground and
+from 1e9 m (the planet a few pixels wide), with 32-bit and with 16-bit float tables. Median ms per frame,
+``WaitForCompletion`` after each frame, after 5 warm-up frames.
+"""
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+TABLES = ("optical_depth", "irradiance", "rayleigh", "mie", "multiple", "multiple_mie")
+
+
+def prepare(path):
+    from planetviz import load_atmosphere
+    from planetviz.render.atmosphere_actor import AtmosphereActor
+    from planetviz.tables import QUALITY, TableCache, precompute
+    atm = load_atmosphere("earth")
+    tables = precompute(atm, QUALITY["standard"], cache=TableCache())
+    static = AtmosphereActor._static_uniforms(SimpleNamespace(atmosphere=atm, tables=tables, surface=None))
+    static = {k: (kind, np.asarray(v).tolist()) for k, (kind, v) in static.items()}
+    np.savez_compressed(path, bottom=tables.bottom, top=tables.top, static=json.dumps(static),
+                        **{name: getattr(tables, name) for name in TABLES})
+    print(f"wrote {path} ({Path(path).stat().st_size / 1e6:.1f} MB)")
+
+
+class _PreparedActor:
+    """An AtmosphereActor whose constant uniforms come from the prepared file."""
+
+    def __new__(cls, data, renderer, half_float):
+        from planetviz.render.atmosphere_actor import AtmosphereActor
+
+        class Prepared(AtmosphereActor):
+            def _static_uniforms(self):
+                return {k: (kind, v) for k, (kind, v) in json.loads(str(data["static"])).items()}
+
+        tables = SimpleNamespace(bottom=float(data["bottom"]), top=float(data["top"]),
+                                 **{name: data[name] for name in TABLES})
+        return Prepared(None, tables, renderer, half_float_tables=half_float)
+
+
+def frame_ms(window, frames):
+    for _ in range(5):
+        window.Render()
+    window.WaitForCompletion()
+    times = []
+    for _ in range(frames):
+        t0 = time.perf_counter()
+        window.Render()
+        window.WaitForCompletion()
+        times.append(1e3 * (time.perf_counter() - t0))
+    return float(np.median(times))
+
+
+def set_camera(renderer, position, target, up):
+    cam = renderer.GetActiveCamera()
+    cam.SetPosition(*position)
+    cam.SetFocalPoint(*target)
+    cam.SetViewUp(*up)
+    cam.SetViewAngle(30.0)
+    renderer.ResetCameraClippingRange()
+
+
+def run(path, sizes, frames):
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
+    data = np.load(path)
+    R = float(data["bottom"])
+    views = {"orbit, 4 radii": ((4 * R, 0, 0), (0, 0, 0), (0, 0, 1)),
+             "ground, horizon": ((R + 2.0, 0, 0), (R + 2.0, 1e4, 1e3), (1, 0, 0)),
+             "1e9 m": ((1e9, 0, 0), (0, 0, 0), (0, 0, 1))}
+    print("| size | plain sphere (4 radii) | " + " | ".join(f"{v}, float32 | {v}, float16" for v in views) + " |")
+    print("|---" * (2 + 2 * len(views)) + "|")
+    for size in sizes:
+        w, h = (int(v) for v in size.split("x"))
+        row = [size]
+        window = vtkRenderWindow()
+        window.SetOffScreenRendering(1)
+        window.SetSize(w, h)
+        window.SetMultiSamples(0)
+        renderer = vtkRenderer()
+        renderer.SetNearClippingPlaneTolerance(1e-6)
+        window.AddRenderer(renderer)
+        sphere = vtkSphereSource()
+        sphere.SetRadius(R)
+        sphere.SetThetaResolution(128)
+        sphere.SetPhiResolution(64)
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputConnection(sphere.GetOutputPort())
+        plain = vtkActor()
+        plain.SetMapper(mapper)
+        renderer.AddActor(plain)
+        set_camera(renderer, *views["orbit, 4 radii"])
+        row.append(frame_ms(window, frames))
+        renderer.RemoveActor(plain)
+        timings = {}
+        for half in (False, True):
+            actor = _PreparedActor(data, renderer, half)
+            actor.sun_direction = np.array([0.6, 0.3, 0.74])
+            renderer.AddActor(actor.actor)
+            for name, view in views.items():
+                set_camera(renderer, *view)
+                timings[name, half] = frame_ms(window, frames)
+            renderer.RemoveActor(actor.actor)
+            actor.release()
+        row += [timings[name, half] for name in views for half in (False, True)]
+        print("| " + " | ".join([row[0]] + [f"{v:.2f}" for v in row[1:]]) + " |", flush=True)
+        window.Finalize()
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("mode", choices=("prepare", "run"))
+    ap.add_argument("path")
+    ap.add_argument("--sizes", nargs="+", default=["1280x720", "1920x1080", "3840x2160"])
+    ap.add_argument("--frames", type=int, default=50)
+    args = ap.parse_args()
+    if args.mode == "prepare":
+        prepare(args.path)
+    else:
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+        run(args.path, args.sizes, args.frames)
+
+
+if __name__ == "__main__":
+    main()
