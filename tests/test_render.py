@@ -328,3 +328,25 @@ def test_the_terminator_seen_from_space_has_no_step(earth):
     assert len(lit) > 10
     neighbours = np.maximum(steps[:-2], steps[2:])
     assert np.all(steps[1:-1] < 2 * neighbours + 0.2), steps
+
+
+@pytest.mark.parametrize("tone_mapping", ["exponential", "filmic"])
+def test_the_window_shows_the_tone_mapped_linear_radiance(earth, tone_mapping):
+    # The 8-bit window is the float linear sRGB (render_hdr) times the exposure, tone-mapped and sRGB-encoded:
+    # checked against the same steps in NumPy (colour-science's sRGB encoding). Bound: 1.5/255 (8-bit
+    # rounding and float32).
+    import colour
+    earth.view_from_ground(latitude=0, heading=90, pitch=5, fov=60)
+    earth.set_sun(elevation=4, azimuth=80)
+    earth.settings.tone_mapping = tone_mapping
+    try:
+        x = np.maximum(earth.render_hdr().linear_srgb, 0) * earth.settings.exposure
+        shown = earth.screenshot()[..., :3] / 255.0
+    finally:
+        earth.settings.tone_mapping = "exponential"
+    if tone_mapping == "exponential":
+        mapped = 1 - np.exp(-x)
+    else:
+        mapped = np.clip(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0, 1)
+    want = colour.cctf_encoding(np.clip(mapped, 0, 1), function="sRGB")
+    assert np.abs(shown - want).max() < 1.5 / 255
