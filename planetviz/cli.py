@@ -5,6 +5,7 @@
     planetviz precompute --atmosphere A [--quality draft|standard|high] [--no-cache]
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
                          [--method reference|lut|fallback] [--quality draft|standard|high] [--no-cache]
+                         [--samples N]
     planetviz render     [--atmosphere A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
                          [--size WxH] [--screenshot OUT.png] [--exr OUT.exr] [--quality Q] [...]
 
@@ -69,8 +70,13 @@ def _solve(atm, queries, method, quality, samples, seed, cache=None):
         radiance, transmittance = sky_radiance(precompute(atm, QUALITY[quality], cache=cache), atm,
                                                queries.camera_m, queries.view_dir, queries.sun_dir)
         return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, 0)
-    if method != "reference":
-        raise ValueError(f"--method {method}: not available in this version; allowed: reference, lut")
+    if method == "fallback":
+        from .fallback import fallback_radiance
+        from .reference import ReferenceResult
+        n = 8 if samples is None else samples
+        radiance, transmittance = fallback_radiance(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
+                                                    samples=n)
+        return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, n)
     from .reference import solve
     return solve(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
                  samples=samples or REFERENCE_SAMPLES[quality], seed=seed)
@@ -85,7 +91,8 @@ def _cmd_radiance(args) -> int:
     extra = {"radiance_stderr": result.stderr} if args.method == "reference" else {}
     np.savez(args.out, radiance=result.radiance, transmittance=result.transmittance,
              wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **extra)
-    how = f"{result.samples} paths per ray" if args.method == "reference" else f"{args.quality} tables"
+    how = {"reference": f"{result.samples} paths per ray", "lut": f"{args.quality} tables",
+           "fallback": f"{result.samples} samples per path, single scattering"}[args.method]
     print(f"wrote {args.out}: {len(queries.camera_m)} rays x {atm.n_wavelengths} wavelengths ({args.method}, {how})")
     return 0
 
@@ -218,7 +225,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output npz (radiance, transmittance, wavelengths_nm)")
     p.add_argument("--method", choices=("reference", "lut", "fallback"), default="reference")
     p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
-    p.add_argument("--samples", type=int, default=None, help="override the paths per ray (reference)")
+    p.add_argument("--samples", type=int, default=None,
+                   help="reference: paths per ray (overrides --quality); fallback: points per path (default 8)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache (lut)")
     p.set_defaults(func=_cmd_radiance)

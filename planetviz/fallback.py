@@ -1,0 +1,138 @@
+"""Quick view: Keller and Bohn's single-scattering integrator with no precomputed tables (../shared/seeds/002).
+
+The NumPy twin of the quick-view shader: the same sampling and the same names. For a view ray from x (moved to
+where it enters the atmosphere when x is in space) along v, with D the length of its part in the atmosphere
+(up to the ground where it hits it) and the sun in direction s:
+
+    L = sum_i  Delta_i  [beta_R^s(h_i) P_R(nu) + beta_M^s(h_i) P_M(nu)]  exp(-tau(x, p_i) - tau(p_i, sun))  V_i
+      + T(x, y) (albedo / pi) T_sun(y) max(n . s, 0)                    (rays that hit the ground at y)
+
+with the paper's midpoint rule on non-equidistant points (Sect. 6): a_i = (i / n)^3, b_i = ((i + 1) / n)^3,
+p_i = x + D (a_i + b_i) / 2 v, Delta_i = D (b_i - a_i); V_i = 0 where the planet hides the sun from p_i. Each
+optical depth tau is the same midpoint rule with (j / m)^2 along its own path (from x to p_i, and from p_i to the
+top of the atmosphere toward the sun), starting where the density is highest. ``sampling="equidistant"`` uses
+exponents 1 and 1 instead, for the comparison in docs/benchmarks.md.
+
+``terms="physical"`` (default) uses the atmosphere file's coefficients and phase functions, radiance in 1/sr
+per unit solar irradiance as everywhere else. ``terms="artistic"`` uses the paper's Table 1 simplifications:
+molecular coefficients scaled from the longest wavelength's by (lambda_red / lambda)^4, particle coefficients
+by (lambda_red / lambda)^2, phases 1 + 0.5 cos^2 and the Henyey-Greenstein lobe without its 1 / (4 pi): not
+normalised, so that radiance is in arbitrary units (the paper's artistic control, never the physical model).
+
+Single scattering only: no multiple scattering, no sky light on the ground; docs/benchmarks.md measures what
+that misses (twilight, thick atmospheres).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import distance_to_ground, distance_to_top_exit
+from .reference.optical_depth import shell_segment
+
+#: Exponents of the sample positions (i / n)^e: the scattering integral, the optical depths.
+SAMPLING = {"power": (3.0, 2.0), "equidistant": (1.0, 1.0)}
+TERMS = ("physical", "artistic")
+
+
+def sample_fractions(n, exponent):
+    """Midpoints (a_i + b_i) / 2 and widths b_i - a_i of the intervals [(i / n)^e, ((i + 1) / n)^e], i < n."""
+    edges = (np.arange(n + 1) / n) ** exponent
+    return 0.5 * (edges[:-1] + edges[1:]), np.diff(edges)
+
+
+def _coefficients(atm, terms):
+    """(beta_R^s [W], beta_M^s [W], [(extinction [W], profile)...]) under the chosen terms."""
+    b_r, b_m = np.asarray(atm.rayleigh.scattering_m), np.asarray(atm.mie.scattering_m)
+    comps = atm.components()
+    if terms == "physical":
+        return b_r, b_m, [(ext, prof) for _, ext, prof in comps]
+    wl = np.asarray(atm.wavelengths_nm, dtype=float)
+    red = int(np.argmax(wl))
+    b_r = b_r[red] * (wl[red] / wl) ** 4
+    b_m = b_m[red] * (wl[red] / wl) ** 2
+    m_ext = np.asarray(atm.mie.extinction_m)[red] * (wl[red] / wl) ** 2
+    return b_r, b_m, [(b_r, atm.rayleigh.profile), (m_ext, atm.mie.profile)] + \
+        [(ext, prof) for _, ext, prof in comps[2:]]
+
+
+def _phases(atm, nu, terms):
+    """(P_R (N, 1), P_M (N, W)) at nu."""
+    if terms == "physical":
+        return atm.rayleigh.phase_function(nu)[:, None], atm.mie.phase_function(nu)
+    g = np.asarray(atm.mie.g1, dtype=float)[None, :]
+    p_m = (1 - g * g) / (1 - 2 * g * nu[:, None] + g * g) ** 1.5
+    return (1 + 0.5 * nu * nu)[:, None], p_m
+
+
+def path_optical_depth(extinction, bottom, start, direction, length, m, exponent):
+    """tau along start + t direction, 0 <= t <= length, by the midpoint rule at (j / m)^exponent: (..., W)."""
+    mid, width = sample_fractions(m, exponent)
+    pts = start[..., None, :] + (length[..., None] * mid)[..., None] * direction[..., None, :]
+    h = np.maximum(np.linalg.norm(pts, axis=-1) - bottom, 0.0)   # < 0 only on sun paths through the planet
+    tau = 0.0
+    for ext, profile in extinction:
+        tau = tau + np.einsum("...k,k,w->...w", profile.density(h), width, ext)
+    return tau * length[..., None]
+
+
+def fallback_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples=None, sampling="power",
+                      terms="physical"):
+    """(radiance (N, W), transmittance (N, W)) of single scattering along each ray (and the sunlit ground).
+
+    ``samples``: points n on the view path; ``density_samples``: points m of each optical depth (default n).
+
+    Example
+    -------
+    >>> from planetviz import load_atmosphere
+    >>> atm = load_atmosphere("earth")
+    >>> L, T = fallback_radiance(atm, [[0, 0, atm.bottom_radius_m + 2]], [[0, 0, 1]], [0, 0.5, 0.866])
+    >>> L.shape
+    (1, 3)
+    """
+    if sampling not in SAMPLING:
+        raise ValueError(f"sampling: one of {', '.join(SAMPLING)}, got {sampling!r}")
+    if terms not in TERMS:
+        raise ValueError(f"terms: one of {', '.join(TERMS)}, got {terms!r}")
+    for name, value in (("samples", samples), ("density_samples", density_samples)):
+        if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= 1024):
+            raise ValueError(f"{name}: an integer in [1, 1024], got {value!r}")
+    n, m = int(samples), int(density_samples or samples)
+    e_view, e_depth = SAMPLING[sampling]
+    c = np.atleast_2d(np.asarray(camera, dtype=float))
+    v = np.atleast_2d(np.asarray(view_dir, dtype=float))
+    s = np.broadcast_to(np.asarray(sun_dir, dtype=float), c.shape)
+    R, top = atm.bottom_radius_m, atm.top_radius_m
+    b_r, b_m, extinction = _coefficients(atm, terms)
+
+    start_t, end_t = shell_segment(c, v, top)
+    t_ground = distance_to_ground(c, v, R)
+    hits = np.isfinite(t_ground) & (t_ground <= end_t)
+    end_t = np.where(hits, t_ground, end_t)
+    length = np.maximum(end_t - start_t, 0.0)
+    x = c + start_t[:, None] * v
+    nu = np.clip(np.einsum("ni,ni->n", v, s), -1.0, 1.0)
+    p_r, p_m = _phases(atm, nu, terms)
+
+    mid, width = sample_fractions(n, e_view)
+    t_i = length[:, None] * mid                                           # (N, n)
+    p = x[:, None, :] + t_i[..., None] * v[:, None, :]
+    h = np.linalg.norm(p, axis=-1) - R
+    s_i = np.broadcast_to(s[:, None, :], p.shape)
+    lit = ~np.isfinite(distance_to_ground(p, s_i, R))
+    tau_view = path_optical_depth(extinction, R, x[:, None, :], v[:, None, :], t_i, m, e_depth)
+    tau_sun = path_optical_depth(extinction, R, p, s_i, distance_to_top_exit(p, s_i, top), m, e_depth)
+    j = (b_r * atm.rayleigh.profile.density(h)[..., None] * p_r[:, None, :]
+         + b_m * atm.mie.profile.density(h)[..., None] * p_m[:, None, :])
+    weight = (length[:, None] * width) * lit
+    radiance = np.einsum("nk,nkw->nw", weight, j * np.exp(-tau_view - tau_sun))
+
+    transmittance = np.exp(-path_optical_depth(extinction, R, x, v, length, m, e_depth))
+    if np.any(hits):
+        y = x[hits] + length[hits, None] * v[hits]
+        normal = y / np.linalg.norm(y, axis=-1, keepdims=True)
+        cos_s = np.maximum(np.einsum("ni,ni->n", normal, s[hits]), 0.0)
+        t_sun = np.exp(-path_optical_depth(extinction, R, y, s[hits], distance_to_top_exit(y, s[hits], top),
+                                           m, e_depth))
+        radiance[hits] += (transmittance[hits] * np.asarray(atm.ground_albedo) / np.pi * cos_s[:, None]
+                           * t_sun)
+    return radiance, transmittance
