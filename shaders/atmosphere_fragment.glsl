@@ -31,8 +31,6 @@
 //                                 in R, G, B (alpha stays 1: VTK blends by alpha); 2: linear sRGB (CIE Y in
 //                                 cd/m^2), not tone-mapped
 //   output_triple          int    k of output_mode 1
-//   exposure               float  multiplies linear sRGB before tone mapping [m^2 / cd]
-//   tone_mapping           int    0: the paper's exponential 1 - exp(-x); 1: filmic (Narkowicz's ACES fit); 2: clamp
 
 uniform vec3 camera_position;
 uniform float camera_radius;
@@ -51,17 +49,6 @@ uniform vec4 albedo_weights[3 * MAX_GROUPS];
 uniform vec4 surface_albedo[MAX_GROUPS];
 uniform int output_mode;
 uniform int output_triple;
-uniform float exposure;
-uniform int tone_mapping;
-
-vec3 srgb_decode(vec3 c) {
-    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), vec3(greaterThan(c, vec3(0.04045))));
-}
-
-vec3 srgb_encode(vec3 c) {
-    c = clamp(c, 0.0, 1.0);
-    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, vec3(greaterThan(c, vec3(0.0031308))));
-}
 
 // The view ray of this pixel where it enters the atmosphere: (r, mu, mu_s, nu), the start point x and whether
 // the ray meets the atmosphere at all.
@@ -128,12 +115,6 @@ vec4 radiance(ViewRay ray, int g) {
     return l;
 }
 
-vec3 tone_map(vec3 x) {
-    if (tone_mapping == 0) return 1.0 - exp(-x);
-    if (tone_mapping == 1) return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
-    return clamp(x, 0.0, 1.0);
-}
-
 vec4 atmosphere_fragment() {
     ViewRay ray = view_ray();
     if (output_mode == 1) {
@@ -153,5 +134,5 @@ vec4 atmosphere_fragment() {
         rgb += vec3(dot(rgb_weights[3 * g], l), dot(rgb_weights[3 * g + 1], l), dot(rgb_weights[3 * g + 2], l));
     }
     if (output_mode == 2) return vec4(rgb, 1.0);
-    return vec4(srgb_encode(tone_map(max(rgb, 0.0) * exposure)), 1.0);
+    return vec4(display_colour(rgb), 1.0);
 }

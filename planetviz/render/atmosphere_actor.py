@@ -115,29 +115,11 @@ class AtmosphereActor:
         }
 
     def camera_uniforms(self):
-        """The camera's uniforms, computed in double precision from the renderer's active camera."""
-        cam = self.renderer.GetActiveCamera()
-        pos = np.array(cam.GetPosition(), dtype=float)
-        forward = np.array(cam.GetFocalPoint(), dtype=float) - pos
-        forward /= np.linalg.norm(forward)
-        up = np.array(cam.GetViewUp(), dtype=float)
-        right = np.cross(forward, up)
-        right /= np.linalg.norm(right)
-        up = np.cross(right, forward)
-        x0, y0, x1, y1 = self.renderer.GetViewport()
-        w, h = self.renderer.GetRenderWindow().GetActualSize()
-        vw, vh = (x1 - x0) * w, (y1 - y0) * h
-        tan_v = math.tan(math.radians(cam.GetViewAngle()) / 2)
-        if cam.GetUseHorizontalViewAngle():
-            tan_h, tan_v = tan_v, tan_v * vh / vw
-        else:
-            tan_h = tan_v * vw / vh
+        """The per-draw uniforms: the camera's (double precision), the sun and the display settings."""
         s = self.settings
         cos_radius = math.cos(math.radians(s.sun_angular_radius_deg))
         return {
-            "camera_position": ("3f", pos), "camera_radius": ("f", float(np.linalg.norm(pos))),
-            "camera_forward": ("3f", forward), "camera_right": ("3f", right * tan_h),
-            "camera_up": ("3f", up * tan_v), "viewport": ("4f", (x0 * w, y0 * h, vw, vh)),
+            **camera_uniforms(self.renderer),
             "sun_direction": ("3f", self.sun_direction / np.linalg.norm(self.sun_direction)),
             "sun_cos_radius": ("f", cos_radius), "sun_solid_angle": ("f", 2 * math.pi * (1 - cos_radius)),
             "show_sun": ("i", int(s.show_sun)),
@@ -181,6 +163,30 @@ class AtmosphereActor:
         self._textures = None
 
 
+def camera_uniforms(renderer):
+    """The camera's uniforms, computed in double precision from the renderer's active camera: position, its
+    distance from the centre, the view basis scaled by the half fields of view, and the viewport in pixels."""
+    cam = renderer.GetActiveCamera()
+    pos = np.array(cam.GetPosition(), dtype=float)
+    forward = np.array(cam.GetFocalPoint(), dtype=float) - pos
+    forward /= np.linalg.norm(forward)
+    up = np.array(cam.GetViewUp(), dtype=float)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    x0, y0, x1, y1 = renderer.GetViewport()
+    w, h = renderer.GetRenderWindow().GetActualSize()
+    vw, vh = (x1 - x0) * w, (y1 - y0) * h
+    tan_v = math.tan(math.radians(cam.GetViewAngle()) / 2)
+    if cam.GetUseHorizontalViewAngle():
+        tan_h, tan_v = tan_v, tan_v * vh / vw
+    else:
+        tan_h = tan_v * vw / vh
+    return {"camera_position": ("3f", pos), "camera_radius": ("f", float(np.linalg.norm(pos))),
+            "camera_forward": ("3f", forward), "camera_right": ("3f", right * tan_h),
+            "camera_up": ("3f", up * tan_v), "viewport": ("4f", (x0 * w, y0 * h, vw, vh))}
+
+
 def _groups_array(values):
     """(G, 4) per-group values padded to MAX_GROUPS rows, flat for SetUniform4fv."""
     out = np.zeros((MAX_GROUPS, 4), np.float32)
@@ -199,6 +205,12 @@ def _set_uniform(program, name, kind, value):
         program.SetUniform3f(name, [float(v) for v in value])
     elif kind == "4f":
         program.SetUniform4f(name, [float(v) for v in value])
+    elif kind == "1fv":
+        arr = np.ascontiguousarray(value, dtype=np.float32)
+        program.SetUniform1fv(name, len(arr), arr)
+    elif kind == "3fv":
+        arr = np.ascontiguousarray(value, dtype=np.float32)
+        program.SetUniform3fv(name, len(arr), arr.ravel())
     else:
         arr = np.ascontiguousarray(value, dtype=np.float32)
         program.SetUniform4fv(name, len(arr), arr.ravel())

@@ -5,6 +5,7 @@ longitude [deg]; the sun by its elevation and azimuth (from north, through east)
 """
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,9 +16,10 @@ from ..atmosphere import Atmosphere
 from ..presets import load_atmosphere
 from ..color import linear_srgb_matrix
 from ..optics.light import star_irradiance
-from ..tables.cache import TableCache
+from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.precompute import QUALITY, precompute
-from .atmosphere_actor import TONE_MAPPINGS, AtmosphereActor, DisplaySettings
+from .atmosphere_actor import TONE_MAPPINGS, AtmosphereActor, DisplaySettings, camera_uniforms
+from .fallback_actor import FallbackActor
 from .hdr import render_spectral, write_exr
 from .surface import surface_texture
 
@@ -84,50 +86,141 @@ class Scene(pv.Plotter):
     """
 
     def __init__(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
-                 tone_mapping="exponential", window_size=(960, 540), cache=True, **kwargs):
+                 tone_mapping="exponential", window_size=(960, 540), cache=True, method="tables",
+                 quick_samples=8, **kwargs):
+        self._job = None                      # a background precompute (render() may run inside __init__)
         super().__init__(window_size=list(window_size), **kwargs)
         self.ren_win.SetMultiSamples(0)
         self.set_background("black")
         self.renderer.SetNearClippingPlaneTolerance(1e-6)
-        self.planet = None
-        self._site = (0.0, 0.0)
-        self.add_planet(atmosphere, quality=quality, surface=surface, exposure=exposure,
-                        tone_mapping=tone_mapping, cache=cache)
-        self.view_from_space()
-        self.set_sun(elevation=30.0, azimuth=135.0)
-
-    # --------------------------------------------------------------------------------------------- planet
-    def add_planet(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
-                   tone_mapping="exponential", cache=True):
-        """Add (or replace) the planet: precompute or load its tables, upload them, return the actor."""
-        atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
-        if quality not in QUALITY:
-            raise ValueError(f"quality: one of {', '.join(QUALITY)}, got {quality!r}")
         if tone_mapping not in TONE_MAPPINGS:
             raise ValueError(f"tone_mapping: one of {', '.join(TONE_MAPPINGS)}, got {tone_mapping!r}")
         if not (np.isfinite(exposure) and exposure > 0):
             raise ValueError(f"exposure: a positive finite number, got {exposure!r}")
-        tables = precompute(atm, QUALITY[quality], cache=TableCache() if cache else None)
-        image = surface_texture(atm) if isinstance(surface, str) and surface == "texture" else surface
+        self.settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
+        self.planet = None                    # the table-based actor (None while its tables are computed)
+        self.quick = None                     # the quick-view actor, made on first use
+        self.quick_samples = quick_samples
+        self.table_error = None               # why the last background precompute failed, if it did
+        self._sun = site_direction(30.0, 135.0)
+        self._site = (0.0, 0.0)
+        self._method = None
+        self.add_planet(atmosphere, quality=quality, surface=surface, cache=cache, method=method)
+        self.view_from_space()
+        self.set_sun(elevation=30.0, azimuth=135.0)
+
+    # --------------------------------------------------------------------------------------------- planet
+    def add_planet(self, atmosphere="earth", quality="standard", surface="texture", cache=True, method="tables"):
+        """Set the planet: precompute (or load) its tables and show them (``method="tables"``), or show the
+        quick view (``"fallback"``, no tables). Returns the actor shown."""
+        atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
+        if quality not in QUALITY:
+            raise ValueError(f"quality: one of {', '.join(QUALITY)}, got {quality!r}")
+        if method not in ("tables", "fallback"):
+            raise ValueError(f"method: tables or fallback, got {method!r}")
+        self._atmosphere, self._quality, self._cache = atm, quality, cache
+        self._surface = surface_texture(atm) if isinstance(surface, str) and surface == "texture" else surface
+        self._drop_actors()
+        if method == "tables":
+            self._show_tables(precompute(atm, QUALITY[quality], cache=TableCache() if cache else None))
+        else:
+            self._show_quick()
+        self._method = method
+        return self.planet if method == "tables" else self.quick
+
+    def set_atmosphere(self, atmosphere, wait=False):
+        """Change the atmosphere, keeping the view. With table rendering, a change that needs new tables shows
+        the quick view at once while the tables are computed in a background thread; the next render after they
+        are ready shows them (:attr:`renderer_in_use` says which is shown). ``wait``: compute in the foreground."""
+        atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
+        old = self._atmosphere
+        self._atmosphere = atm
+        if self._method == "fallback":
+            self._drop_actors()
+            self._show_quick()
+            return
+        sizes = QUALITY[self._quality]
+        same = (parameters_hash(stage_parameters(old, sizes)["multiple_scattering"])
+                == parameters_hash(stage_parameters(atm, sizes)["multiple_scattering"]))
+        if same:                              # e.g. only the star or the name changed: the tables stay
+            tables = self.planet.tables if self.planet is not None else None
+            if tables is not None:
+                self._drop_actors()
+                self._show_tables(tables)
+                return
+        cache = TableCache() if self._cache else None
+        if wait:
+            self._drop_actors()
+            self._show_tables(precompute(atm, sizes, cache=cache))
+            return
+        self._drop_actors()
+        self._show_quick()
+        self._job = _TableJob(atm, sizes, cache)
+
+    @property
+    def renderer_in_use(self):
+        """``"tables"`` or ``"fallback"``: what the next frame shows."""
+        return "tables" if self.planet is not None else "fallback"
+
+    @property
+    def precompute_progress(self):
+        """(stage, fraction) of the background precompute, or None when none runs."""
+        return None if self._job is None else self._job.progress
+
+    def render(self):
+        """Render, first switching to the tables if a background precompute has finished."""
+        self._collect_tables()
+        return super().render()
+
+    def _collect_tables(self):
+        job = self._job
+        if job is None or job.thread.is_alive():
+            return
+        self._job = None
+        if job.atmosphere is not self._atmosphere:         # superseded by a later change
+            return
+        if job.error is not None:
+            self.table_error = job.error                       # keep showing the quick view
+            return
+        self.table_error = None
+        self._drop_actors()
+        self._show_tables(job.tables)
+
+    def wait_for_tables(self, timeout=None):
+        """Block until the background precompute (if any) ends, then show its tables."""
+        if self._job is not None:
+            self._job.thread.join(timeout)
+        self._collect_tables()
+
+    def _show_tables(self, tables):
+        self.planet = AtmosphereActor(self._atmosphere, tables, self.renderer, surface=self._surface,
+                                      settings=self.settings)
+        self.planet.sun_direction = self._sun
+        self.add_actor(self.planet.actor, reset_camera=False, name="planet")
+
+    def _show_quick(self):
+        self.quick = FallbackActor(self._atmosphere, self.renderer, samples=self.quick_samples,
+                                   settings=self.settings)
+        self.quick.sun_direction = self._sun
+        self.add_actor(self.quick.actor, reset_camera=False, name="quick-view")
+
+    def _drop_actors(self):
         if self.planet is not None:
             self.remove_actor(self.planet.actor)
             self.planet.release()
-        settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
-        sun = None if self.planet is None else self.planet.sun_direction
-        self.planet = AtmosphereActor(atm, tables, self.renderer, surface=image, settings=settings)
-        if sun is not None:
-            self.planet.sun_direction = sun
-        self.add_actor(self.planet.actor, reset_camera=False, name="planet")
-        return self.planet
+            self.planet = None
+        if self.quick is not None:
+            self.remove_actor(self.quick.actor)
+            self.quick = None
 
     @property
     def atmosphere(self):
-        return self.planet.atmosphere
+        return self._atmosphere
 
     @property
-    def settings(self):
-        """The shader's :class:`DisplaySettings` (exposure, tone mapping, sun disc)."""
-        return self.planet.settings
+    def active_actor(self):
+        """The actor drawing the planet now (:class:`AtmosphereActor` or :class:`FallbackActor`)."""
+        return self.planet if self.planet is not None else self.quick
 
     # ------------------------------------------------------------------------------------------------ sun
     def set_sun(self, elevation=30.0, azimuth=0.0, latitude=None, longitude=None):
@@ -137,18 +230,21 @@ class Scene(pv.Plotter):
             if not (np.isfinite(value) and lo <= value <= hi):
                 raise ValueError(f"sun {name}: [{lo}, {hi}] deg, got {value!r}")
         lat, lon = self._site if latitude is None else (latitude, longitude if longitude is not None else 0.0)
-        self.planet.sun_direction = site_direction(elevation, azimuth, lat, lon)
+        self.sun_direction = site_direction(elevation, azimuth, lat, lon)
 
     @property
     def sun_direction(self):
-        return self.planet.sun_direction.copy()
+        return self._sun.copy()
 
     @sun_direction.setter
     def sun_direction(self, value):
         v = np.asarray(value, dtype=float)
         if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
             raise ValueError(f"sun_direction: a finite non-zero 3-vector, got {value!r}")
-        self.planet.sun_direction = v / np.linalg.norm(v)
+        self._sun = v / np.linalg.norm(v)
+        for actor in (self.planet, self.quick):
+            if actor is not None:
+                actor.sun_direction = self._sun
 
     # --------------------------------------------------------------------------------------------- camera
     def set_view(self, position, direction, up=None, fov=60.0):
@@ -179,7 +275,7 @@ class Scene(pv.Plotter):
     def pixel_directions(self, rows, cols):
         """Unit view directions (..., 3) through the centres of pixels (rows from the top of the image), as the
         fragment shader computes them."""
-        u = self.planet.camera_uniforms()
+        u = camera_uniforms(self.renderer)
         x0, y0, w, h = u["viewport"][1]
         rows, cols = np.asarray(rows, dtype=float), np.asarray(cols, dtype=float)
         ndc_x = (cols + 0.5 - x0) / w * 2 - 1
@@ -220,20 +316,43 @@ class Scene(pv.Plotter):
     def render_hdr(self, path=None):
         """Linear radiance of the current view as an :class:`HDRImage` (float32, read back from a float
         framebuffer, not tone-mapped); with ``path``, also written as OpenEXR."""
+        self._collect_tables()
         atm = self.atmosphere
-        radiance = render_spectral(self.planet, self.ren_win)
+        radiance = render_spectral(self.active_actor, self.ren_win)
         spectral = radiance * star_irradiance(atm.star, atm.wavelengths_nm).astype(np.float32)
         rgb = (radiance @ linear_srgb_matrix(atm).astype(np.float32)).astype(np.float32)
         hdr = HDRImage(radiance, spectral, rgb, tuple(atm.wavelengths_nm))
         if path is not None:
             cam = self.renderer.GetActiveCamera()
             hdr.save_exr(Path(path), {"atmosphere": atm.name, "camera_position_m": list(cam.GetPosition()),
-                                      "sun_direction": list(map(float, self.planet.sun_direction)),
+                                      "sun_direction": list(map(float, self._sun)),
+                                      "renderer": self.renderer_in_use,
                                       "R,G,B": "linear sRGB, luminance in cd/m^2",
                                       "L.*": "spectral radiance, W m^-2 sr^-1 nm^-1"})
         return hdr
 
     def close(self, *args, **kwargs):
+        if self._job is not None:
+            self._job.thread.join()
+            self._job = None
         if self.planet is not None and self.ren_win is not None:
             self.planet.release()
         return super().close(*args, **kwargs)
+
+
+class _TableJob:
+    """A precompute in a background thread (NumPy and the disk cache only: VTK is touched by the main thread)."""
+
+    def __init__(self, atmosphere, sizes, cache):
+        self.atmosphere = atmosphere
+        self.tables = self.error = None
+        self.progress = ("starting", 0.0)
+        self.thread = threading.Thread(target=self._run, args=(sizes, cache), daemon=True)
+        self.thread.start()
+
+    def _run(self, sizes, cache):
+        try:
+            self.tables = precompute(self.atmosphere, sizes, cache=cache,
+                                     progress=lambda stage, f: setattr(self, "progress", (stage, f)))
+        except Exception as exc:            # reported through Scene.table_error; the quick view stays
+            self.error = exc

@@ -14,6 +14,11 @@ def load_shader(name: str) -> str:
     return path.read_text()
 
 
+def shader_code(*names: str) -> str:
+    """The files ``names`` of ``shaders/`` joined in order (each declares what the later ones use)."""
+    return "\n".join(load_shader(name) for name in names)
+
+
 def fragment_code() -> str:
-    """Declarations and functions inserted into the atmosphere actor's fragment shader."""
-    return load_shader("atmosphere_functions.glsl") + "\n" + load_shader("atmosphere_fragment.glsl")
+    """Declarations and functions inserted into the table-based atmosphere actor's fragment shader."""
+    return shader_code("common.glsl", "atmosphere_functions.glsl", "display.glsl", "atmosphere_fragment.glsl")

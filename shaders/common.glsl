@@ -1,0 +1,70 @@
+// Shared by every planetviz shader: constants, the planet's radii, stable ray-sphere distances and the phase
+// functions, each with the name of its NumPy twin (planetviz/tables/parameterization.py, planetviz/optics/phase.py,
+// planetviz/tables/multiple.py forward_factor).
+//
+// Uniforms:
+//   bottom_radius, top_radius   float  planet and top-of-atmosphere radii [m]
+//   group_count                 int    number of wavelength groups G (1 .. MAX_GROUPS); group g holds wavelengths
+//                                      4g .. 4g + 3, one per component of a vec4
+//   rayleigh_anisotropy         float  A in P_R = (1 + A nu^2) / (4 pi (1 + A / 3)): 1 Rayleigh, 0.932 Penndorf
+//   mie_g1, mie_g2, mie_alpha   vec4[MAX_GROUPS]  the double Henyey-Greenstein parameters per wavelength
+
+#define MAX_GROUPS 16
+const float PI = 3.14159265358979;
+
+uniform float bottom_radius;
+uniform float top_radius;
+uniform int group_count;
+uniform float rayleigh_anisotropy;
+uniform vec4 mie_g1[MAX_GROUPS];
+uniform vec4 mie_g2[MAX_GROUPS];
+uniform vec4 mie_alpha[MAX_GROUPS];
+
+float safe_sqrt(float a) { return sqrt(max(a, 0.0)); }
+float clamp_cosine(float mu) { return clamp(mu, -1.0, 1.0); }
+
+// rho = sqrt(r^2 - R_b^2) as (r - R_b)(r + R_b): no cancellation for a camera metres above the ground.
+float rho_of(float r) { return safe_sqrt((r - bottom_radius) * (r + bottom_radius)); }
+
+// d >= 0 along (r, mu) to the top of the atmosphere, r <= top.
+float distance_to_top_atmosphere_boundary(float r, float mu) {
+    float disc = r * r * (mu * mu - 1.0) + top_radius * top_radius;
+    return max(-r * mu + safe_sqrt(disc), 0.0);
+}
+
+// d >= 0 along (r, mu) to the ground, in the stable form c / q with c = (r - R_b)(r + R_b).
+float distance_to_bottom_atmosphere_boundary(float r, float mu) {
+    float c = (r - bottom_radius) * (r + bottom_radius);
+    float disc = r * r * mu * mu - c;
+    float q = -r * mu + safe_sqrt(disc);
+    return q > 0.0 ? max(c / q, 0.0) : 0.0;
+}
+
+bool ray_intersects_ground(float r, float mu) {
+    return mu < 0.0 && r * r * mu * mu - (r - bottom_radius) * (r + bottom_radius) >= 0.0;
+}
+
+// --------------------------------------------------------------------------------------------------- phases
+float rayleigh_phase(float nu) { return 3.0 / (16.0 * PI) * (1.0 + nu * nu); }
+
+float penndorf_phase(float nu) { return (1.0 + 0.932 * nu * nu) / (4.0 * PI * (1.0 + 0.932 / 3.0)); }
+
+// The molecules' phase with the atmosphere's anisotropy (rayleigh_phase for A = 1, penndorf_phase for 0.932).
+float rayleigh_like_phase(float nu) {
+    float a = rayleigh_anisotropy;
+    return (1.0 + a * nu * nu) / (4.0 * PI * (1.0 + a / 3.0));
+}
+
+vec4 henyey_greenstein(float nu, vec4 g) {
+    return (1.0 - g * g) / (4.0 * PI * pow(1.0 + g * g - 2.0 * g * nu, vec4(1.5)));
+}
+
+vec4 double_henyey_greenstein(float nu, vec4 g1, vec4 g2, vec4 alpha) {
+    return alpha * henyey_greenstein(nu, g1) + (1.0 - alpha) * henyey_greenstein(nu, g2);
+}
+
+// The twice-scattered particle lobe F(nu) = DHG(nu; g1^2, g2^2, alpha) of group g.
+vec4 forward_factor(float nu, int g) {
+    return double_henyey_greenstein(nu, mie_g1[g] * mie_g1[g], mie_g2[g] * mie_g2[g], mie_alpha[g]);
+}
+
