@@ -8,7 +8,8 @@ colour-science: what the stripped VTK bundle of ../shared/notes/gpu-timing.md of
 ``run`` builds a window, the same ``AtmosphereActor`` the application uses, and times, per size: a plain
 sphere with VTK's default shading filling the same part of the frame (the frame floor of this GPU, as the
 notes recommend: compare ratios, not absolute figures), then the atmosphere from orbit, from the ground and
-from 1e9 m (the planet a few pixels wide), with 32-bit and with 16-bit float tables. Median ms per frame,
+from 1e9 m (the planet a few pixels wide), with 32-bit and with 16-bit float tables; then the quick view
+(Keller and Bohn per vertex, no tables) from the ground with 4, 8 and 16 points per path. Median ms per frame,
 ``WaitForCompletion`` after each frame, after 5 warm-up frames.
 """
 import argparse
@@ -32,10 +33,16 @@ def prepare(path):
     from planetviz.tables import QUALITY, TableCache, precompute
     atm = load_atmosphere("earth")
     tables = precompute(atm, QUALITY["standard"], cache=TableCache())
+    from planetviz.render.fallback_actor import FallbackActor
     static = AtmosphereActor._static_uniforms(SimpleNamespace(atmosphere=atm, tables=tables, surface=None))
     static = {k: (kind, np.asarray(v).tolist()) for k, (kind, v) in static.items()}
+    quick = {}
+    for n in (4, 8, 16):
+        u = FallbackActor._static_uniforms(SimpleNamespace(atmosphere=atm, terms="physical", sampling="power",
+                                                           samples=n, density_samples=n))
+        quick[n] = {k: (kind, np.asarray(v).tolist()) for k, (kind, v) in u.items()}
     np.savez_compressed(path, bottom=tables.bottom, top=tables.top, static=json.dumps(static),
-                        **{name: getattr(tables, name) for name in TABLES})
+                        quick=json.dumps(quick), **{name: getattr(tables, name) for name in TABLES})
     print(f"wrote {path} ({Path(path).stat().st_size / 1e6:.1f} MB)")
 
 
@@ -52,6 +59,20 @@ class _PreparedActor:
         tables = SimpleNamespace(bottom=float(data["bottom"]), top=float(data["top"]),
                                  **{name: data[name] for name in TABLES})
         return Prepared(None, tables, renderer, half_float_tables=half_float)
+
+
+class _PreparedQuick:
+    """A FallbackActor whose constant uniforms come from the prepared file."""
+
+    def __new__(cls, data, renderer, n):
+        from planetviz.render.fallback_actor import FallbackActor
+
+        class Prepared(FallbackActor):
+            def _static_uniforms(self):
+                return {k: (kind, v) for k, (kind, v) in json.loads(str(data["quick"]))[str(n)].items()}
+
+        atm = SimpleNamespace(bottom_radius_m=float(data["bottom"]), top_radius_m=float(data["top"]))
+        return Prepared(atm, renderer, samples=n)
 
 
 def frame_ms(window, frames):
@@ -87,6 +108,7 @@ def run(path, sizes, frames):
              "1e9 m": ((1e9, 0, 0), (0, 0, 0), (0, 0, 1))}
     print("| size | plain sphere (4 radii) | " + " | ".join(f"{v}, float32 | {v}, float16" for v in views) + " |")
     print("|---" * (2 + 2 * len(views)) + "|")
+    quick_rows = []
     for size in sizes:
         w, h = (int(v) for v in size.split("x"))
         row = [size]
@@ -121,7 +143,18 @@ def run(path, sizes, frames):
             actor.release()
         row += [timings[name, half] for name in views for half in (False, True)]
         print("| " + " | ".join([row[0]] + [f"{v:.2f}" for v in row[1:]]) + " |", flush=True)
+        for n in (4, 8, 16):
+            quick = _PreparedQuick(data, renderer, n)
+            quick.sun_direction = np.array([0.6, 0.3, 0.74])
+            renderer.AddActor(quick.actor)
+            set_camera(renderer, *views["ground, horizon"])
+            quick_rows.append((size, n, frame_ms(window, frames), quick.mapper.GetInput().GetNumberOfPoints()))
+            renderer.RemoveActor(quick.actor)
         window.Finalize()
+    print("\n| size | quick view, points per path | ms per frame | vertices |")
+    print("|---|---|---|---|")
+    for size, n, ms, verts in quick_rows:
+        print(f"| {size} | {n} | {ms:.2f} | {verts} |")
 
 
 def main():

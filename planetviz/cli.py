@@ -7,7 +7,8 @@
                          [--method reference|lut|fallback] [--quality draft|standard|high] [--no-cache]
                          [--samples N]
     planetviz render     [--atmosphere A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
-                         [--size WxH] [--screenshot OUT.png] [--exr OUT.exr] [--quality Q] [...]
+                         [--size WxH] [--screenshot OUT.png] [--exr OUT.exr] [--quality Q]
+                         [--method tables|fallback] [--samples N] [...]
 
 Tables are cached in $PLANETVIZ_CACHE (default ~/.cache/planetviz) as OpenEXR files; --no-cache
 computes them afresh and writes nothing.
@@ -177,7 +178,7 @@ def _cmd_render(args) -> int:
     from .render import Scene
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
-                  off_screen=True)
+                  off_screen=True, method=args.method, quick_samples=args.samples, quick_terms=args.terms)
     try:
         if args.view == "space":
             scene.view_from_space(distance=args.distance, latitude=args.latitude, longitude=args.longitude,
@@ -247,6 +248,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--exposure", type=float, default=1e-4, help="multiplies linear sRGB in cd/m^2")
     p.add_argument("--tone-mapping", choices=("exponential", "filmic", "clamp"), default="exponential")
     p.add_argument("--uniform-albedo", action="store_true", help="the atmosphere's ground albedo, no texture")
+    p.add_argument("--method", choices=("tables", "fallback"), default="tables",
+                   help="tables (all orders) or the quick view (single scattering, no precompute)")
+    p.add_argument("--samples", type=int, default=8, help="fallback: points per path")
+    p.add_argument("--terms", choices=("physical", "artistic"), default="physical",
+                   help="fallback: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
     p.add_argument("--size", type=_size, default=(960, 540), help="WIDTHxHEIGHT")
     p.add_argument("--screenshot", default=None, help="PNG of the tone-mapped view")
     p.add_argument("--exr", default=None, help="OpenEXR of the linear radiance")

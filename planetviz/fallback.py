@@ -94,8 +94,8 @@ def fallback_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples
     if terms not in TERMS:
         raise ValueError(f"terms: one of {', '.join(TERMS)}, got {terms!r}")
     for name, value in (("samples", samples), ("density_samples", density_samples)):
-        if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= 1024):
-            raise ValueError(f"{name}: an integer in [1, 1024], got {value!r}")
+        if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= 256):
+            raise ValueError(f"{name}: an integer in [1, 256], got {value!r}")
     n, m = int(samples), int(density_samples or samples)
     e_view, e_depth = SAMPLING[sampling]
     c = np.atleast_2d(np.asarray(camera, dtype=float))

@@ -22,13 +22,14 @@ def quick():
     scene.close()
 
 
-@pytest.mark.parametrize("view", ["ground", "aircraft", "space"])
+@pytest.mark.parametrize("view", ["ground", "aircraft", "space", "artistic"])
 def test_vertex_shader_matches_its_numpy_twin(quick, view):
     # One vertex per sampled pixel (a point cloud at the pixels' directions), so each pixel holds one vertex's
     # value with no interpolation: the GLSL and NumPy integrators must agree. Both evaluate the same sums; the
     # shader in float32 (positions to 0.5 m at 6.4e6 m, exp of optical depths to 1e-7 relative): bound 2e-3,
     # measured 2e-4.
-    if view == "ground":
+    terms = "artistic" if view == "artistic" else "physical"
+    if view in ("ground", "artistic"):
         quick.view_from_ground(latitude=20, altitude=2.0, heading=80, pitch=5, fov=70)
         quick.set_sun(elevation=15, azimuth=100)
     elif view == "aircraft":
@@ -39,13 +40,16 @@ def test_vertex_shader_matches_its_numpy_twin(quick, view):
         quick.set_sun(elevation=40, azimuth=120)
     rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
     dirs = quick.pixel_directions(rows, cols).reshape(-1, 3)
+    quick.quick_terms = terms
+    quick.set_atmosphere(quick.atmosphere)                 # rebuilds the quick view with these terms
     quick.quick.directions = dirs
     try:
         got = quick.render_hdr().radiance[rows, cols].reshape(-1, 3)
     finally:
-        quick.quick.directions = None
+        quick.quick_terms = "physical"
+        quick.set_atmosphere(quick.atmosphere)
     want, _ = fallback_radiance(quick.atmosphere, np.tile(quick.camera_position, (len(dirs), 1)), dirs,
-                                quick.sun_direction, samples=quick.quick_samples)
+                                quick.sun_direction, samples=quick.quick_samples, terms=terms)
     seen = want.max(-1) > 0
     assert seen.sum() > 50 and np.array_equal(got.max(-1) > 0, seen)
     assert np.max(np.abs(got - want)[seen] / want[seen]) < 2e-3

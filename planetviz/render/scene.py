@@ -74,6 +74,11 @@ class Scene(pv.Plotter):
         Multiplies linear sRGB (cd/m^2) before tone mapping; 1e-4 suits daylight, twilight needs ~1e-2.
     tone_mapping : str
         ``"exponential"`` (the paper's 1 - exp(-x)), ``"filmic"`` or ``"clamp"``.
+    method : str
+        ``"tables"`` (precomputed multiple scattering) or ``"fallback"`` (the quick view: single scattering per
+        vertex, no precompute).
+    quick_samples, quick_terms : int, str
+        The quick view's points per path and terms (``"physical"`` or Keller and Bohn's ``"artistic"``).
 
     Examples
     --------
@@ -87,7 +92,7 @@ class Scene(pv.Plotter):
 
     def __init__(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
                  tone_mapping="exponential", window_size=(960, 540), cache=True, method="tables",
-                 quick_samples=8, **kwargs):
+                 quick_samples=8, quick_terms="physical", **kwargs):
         self._job = None                      # a background precompute (render() may run inside __init__)
         super().__init__(window_size=list(window_size), **kwargs)
         self.ren_win.SetMultiSamples(0)
@@ -100,7 +105,7 @@ class Scene(pv.Plotter):
         self.settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
         self.planet = None                    # the table-based actor (None while its tables are computed)
         self.quick = None                     # the quick-view actor, made on first use
-        self.quick_samples = quick_samples
+        self.quick_samples, self.quick_terms = quick_samples, quick_terms
         self.table_error = None               # why the last background precompute failed, if it did
         self._sun = site_direction(30.0, 135.0)
         self._site = (0.0, 0.0)
@@ -200,7 +205,7 @@ class Scene(pv.Plotter):
 
     def _show_quick(self):
         self.quick = FallbackActor(self._atmosphere, self.renderer, samples=self.quick_samples,
-                                   settings=self.settings)
+                                   terms=self.quick_terms, settings=self.settings)
         self.quick.sun_direction = self._sun
         self.add_actor(self.quick.actor, reset_camera=False, name="quick-view")
 
