@@ -1,11 +1,35 @@
-"""planetviz desktop app entry point.
+"""planetviz desktop app: ``python app.py`` opens a window showing Earth from orbit (planetviz/gui.py).
 
-The window, widgets and rendering come with the rendering and app issues; until then this runs the
-command line (``python app.py sky``, ``python app.py radiance ...``).
+With an output option it renders off-screen instead (no display needed), with the options of
+``planetviz render``:
+
+    python app.py --preset mars --view ground --sun-elevation 3 --sun-azimuth 0 --size 1920x1080 \\
+                  --screenshot out.png [--exr out.exr]
 """
+import argparse
 import sys
 
-from planetviz.cli import main
+from planetviz.render_cli import add_render_options, run_render, wants_output
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="app.py", description="planetviz: planets with physical atmospheres")
+    add_render_options(parser)
+    parser.add_argument("--mode", choices=("standard", "advanced"), default="standard", help="the window's sliders")
+    args = parser.parse_args(argv)
+    try:
+        if wants_output(args):
+            return run_render(args)
+        from planetviz.gui import run
+        from planetviz.render import Scene
+        scene = Scene(args.atmosphere, quality=args.quality, window_size=args.size, method=args.method,
+                      exposure=args.exposure, tone_mapping=args.tone_mapping)
+        run(scene, mode=args.mode)
+        return 0
+    except (ValueError, OSError) as exc:
+        print(f"app.py: error: {exc}", file=sys.stderr)
+        return 2
+
 
 if __name__ == "__main__":
     sys.exit(main())

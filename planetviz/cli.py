@@ -6,9 +6,10 @@
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
                          [--method reference|lut|fallback] [--quality draft|standard|high] [--no-cache]
                          [--samples N]
-    planetviz render     [--atmosphere A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
+    planetviz render     [--atmosphere|--preset A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
                          [--size WxH] [--screenshot OUT.png] [--exr OUT.exr] [--quality Q]
-                         [--method tables|fallback] [--samples N] [...]
+                         [--method tables|fallback] [--samples N] [--sweep-sun A B STEP | --flight N]
+                         [--fisheye DOME.png|.exr] [--panorama SKY.exr]   (planetviz/render_cli.py)
 
 Tables are cached in $PLANETVIZ_CACHE (default ~/.cache/planetviz) as OpenEXR files; --no-cache
 computes them afresh and writes nothing.
@@ -23,6 +24,7 @@ import sys
 import numpy as np
 
 from .presets import PRESETS, load_atmosphere
+from .render_cli import add_render_options, run_render
 
 #: Monte Carlo paths per query of the reference solver at each quality.
 REFERENCE_SAMPLES = {"draft": 256, "standard": 2048, "high": 16384}
@@ -162,42 +164,6 @@ def _cmd_precompute(args) -> int:
     return 0
 
 
-def _size(text):
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size: WIDTHxHEIGHT, e.g. 1920x1080, got {text!r}") from None
-    if not (1 <= w <= 16384 and 1 <= h <= 16384):
-        raise argparse.ArgumentTypeError(f"size: 1 to 16384 pixels each way, got {text!r}")
-    return w, h
-
-
-def _cmd_render(args) -> int:
-    import os
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    from .render import Scene
-    scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
-                  exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
-                  off_screen=True, method=args.method, quick_samples=args.samples, quick_terms=args.terms)
-    try:
-        if args.view == "space":
-            scene.view_from_space(distance=args.distance, latitude=args.latitude, longitude=args.longitude,
-                                  fov=args.fov or 30.0)
-        else:
-            scene.view_from_ground(latitude=args.latitude, longitude=args.longitude, altitude=args.altitude,
-                                   heading=args.heading, pitch=args.pitch, fov=args.fov or 60.0)
-        scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth)
-        if args.screenshot:
-            scene.screenshot(args.screenshot)
-            print(f"wrote {args.screenshot}")
-        if args.exr:
-            scene.render_hdr(args.exr)
-            print(f"wrote {args.exr}")
-    finally:
-        scene.close()
-    return 0
-
-
 def build_parser() -> argparse.ArgumentParser:
     presets = ", ".join(PRESETS)
     parser = _Parser(prog="planetviz", description="Planets with physically based atmospheres.")
@@ -232,31 +198,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache (lut)")
     p.set_defaults(func=_cmd_radiance)
 
-    p = sub.add_parser("render", help="render the planet off-screen to PNG and/or OpenEXR")
-    p.add_argument("--atmosphere", default="earth", help=f"preset ({presets}) or JSON file")
-    p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
-    p.add_argument("--view", choices=("space", "ground"), default="space")
-    p.add_argument("--latitude", type=float, default=0.0, help="site below the camera [deg]")
-    p.add_argument("--longitude", type=float, default=0.0, help="[deg]")
-    p.add_argument("--distance", type=float, default=None, help="space: from the planet centre [m]")
-    p.add_argument("--altitude", type=float, default=2.0, help="ground: above the ground [m]")
-    p.add_argument("--heading", type=float, default=0.0, help="ground: view azimuth from north [deg]")
-    p.add_argument("--pitch", type=float, default=10.0, help="ground: view above the horizontal [deg]")
-    p.add_argument("--fov", type=float, default=None, help="vertical field of view [deg]")
-    p.add_argument("--sun-elevation", type=float, default=30.0, help="seen from the site [deg]")
-    p.add_argument("--sun-azimuth", type=float, default=135.0, help="from north through east [deg]")
-    p.add_argument("--exposure", type=float, default=1e-4, help="multiplies linear sRGB in cd/m^2")
-    p.add_argument("--tone-mapping", choices=("exponential", "filmic", "clamp"), default="exponential")
-    p.add_argument("--uniform-albedo", action="store_true", help="the atmosphere's ground albedo, no texture")
-    p.add_argument("--method", choices=("tables", "fallback"), default="tables",
-                   help="tables (all orders) or the quick view (single scattering, no precompute)")
-    p.add_argument("--samples", type=int, default=8, help="fallback: points per path")
-    p.add_argument("--terms", choices=("physical", "artistic"), default="physical",
-                   help="fallback: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
-    p.add_argument("--size", type=_size, default=(960, 540), help="WIDTHxHEIGHT")
-    p.add_argument("--screenshot", default=None, help="PNG of the tone-mapped view")
-    p.add_argument("--exr", default=None, help="OpenEXR of the linear radiance")
-    p.set_defaults(func=_cmd_render)
+    p = sub.add_parser("render", help="render the planet off-screen: PNG, OpenEXR, batches, dome, panorama")
+    add_render_options(p)
+    p.set_defaults(func=run_render)
     return parser
 
 

@@ -62,3 +62,23 @@ def albedo_matrix(wavelengths_nm):
     centres = np.array([612.0, 549.0, 465.0])
     order = np.argsort(centres)
     return np.stack([np.interp(wl, centres[order], np.eye(3)[c][order]) for c in range(3)])
+
+
+def tone_map(x, tone_mapping="exponential"):
+    """The twin of shaders/display.glsl tone_map: ``exponential`` 1 - exp(-x) (the paper), ``filmic``
+    (Narkowicz's fit of the ACES curve) or ``clamp``."""
+    x = np.asarray(x, dtype=float)
+    if tone_mapping == "exponential":
+        return 1.0 - np.exp(-x)
+    if tone_mapping == "filmic":
+        return np.clip(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0)
+    if tone_mapping == "clamp":
+        return np.clip(x, 0.0, 1.0)
+    raise ValueError(f"tone_mapping: exponential, filmic or clamp, got {tone_mapping!r}")
+
+
+def display_colour(rgb, exposure, tone_mapping="exponential"):
+    """The twin of shaders/display.glsl display_colour: linear sRGB (cd/m^2) -> sRGB-encoded values in [0, 1]."""
+    import colour
+    mapped = tone_map(np.maximum(np.asarray(rgb, dtype=float), 0.0) * exposure, tone_mapping)
+    return colour.cctf_encoding(np.clip(mapped, 0.0, 1.0), function="sRGB")

@@ -48,7 +48,7 @@ def test_vertex_shader_matches_its_numpy_twin(quick, view):
     finally:
         quick.quick_terms = "physical"
         quick.set_atmosphere(quick.atmosphere)
-    want, _ = fallback_radiance(quick.atmosphere, np.tile(quick.camera_position, (len(dirs), 1)), dirs,
+    want, _ = fallback_radiance(quick.atmosphere, np.tile(quick.camera_location, (len(dirs), 1)), dirs,
                                 quick.sun_direction, samples=quick.quick_samples, terms=terms)
     seen = want.max(-1) > 0
     assert seen.sum() > 50 and np.array_equal(got.max(-1) > 0, seen)

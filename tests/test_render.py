@@ -33,7 +33,7 @@ def lut_radiance(scene, preset, rows, cols, tmp_path):
     """``planetviz radiance --method lut`` for the rays of the given pixels (same quality, same cached tables)."""
     dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
     q, out = tmp_path / "q.npz", tmp_path / "out.npz"
-    np.savez(q, camera_m=np.tile(scene.camera_position, (len(dirs), 1)), view_dir=dirs,
+    np.savez(q, camera_m=np.tile(scene.camera_location, (len(dirs), 1)), view_dir=dirs,
              sun_dir=scene.sun_direction)
     proc = subprocess.run([sys.executable, "-m", "planetviz", "radiance", "--atmosphere", preset,
                            "--queries", q, "--out", out, "--method", "lut", "--quality", "draft"],
@@ -88,7 +88,7 @@ def test_earth_noon_zenith_is_bluer_than_the_horizon(earth):
     zenith = rgb[1, w // 2]
     rows = np.nonzero(rgb[:, w // 2].sum(-1) > 0)[0]
     d = earth.pixel_directions(np.arange(h), np.full(h, w // 2))
-    horizon_row = np.argmin(np.abs(d @ (earth.camera_position / np.linalg.norm(earth.camera_position)) - 0.02))
+    horizon_row = np.argmin(np.abs(d @ (earth.camera_location / np.linalg.norm(earth.camera_location)) - 0.02))
     horizon = rgb[horizon_row, w // 2]
     assert len(rows) == h
     assert zenith[2] / zenith[0] > 1.3 * horizon[2] / horizon[0], (zenith, horizon)
@@ -97,7 +97,7 @@ def test_earth_noon_zenith_is_bluer_than_the_horizon(earth):
 def sun_colour(scene, elevation):
     scene.set_sun(elevation=elevation, azimuth=90)
     sun = scene.sun_direction
-    scene.set_view(scene.camera_position, sun, fov=2.0)        # the disc fills the middle pixels
+    scene.set_view(scene.camera_location, sun, fov=2.0)        # the disc fills the middle pixels
     rgb = luminance_image(scene)
     h, w = rgb.shape[:2]
     return rgb[h // 2, w // 2]
@@ -119,7 +119,7 @@ def test_space_is_black_away_from_the_planet_and_the_night_side_is_dark(earth):
     day = earth.render_hdr().radiance
     h, w = day.shape[:2]
     d = earth.pixel_directions(*np.meshgrid(np.arange(h), np.arange(w), indexing="ij"))
-    cam = earth.camera_position
+    cam = earth.camera_location
     closest = np.linalg.norm(cam - (d @ cam)[..., None] * d, axis=-1)
     off = closest > earth.atmosphere.top_radius_m * 1.001
     disc = closest < 0.7 * earth.atmosphere.bottom_radius_m
@@ -150,7 +150,7 @@ def test_mars_sky_is_red_brown_at_noon_and_blue_around_the_setting_sun(mars):
     dusk = luminance_image(mars)
     d = mars.pixel_directions(*np.meshgrid(np.arange(h), np.arange(w), indexing="ij"))
     angle = np.degrees(np.arccos(np.clip(d @ mars.sun_direction, -1, 1)))
-    up = d @ (mars.camera_position / np.linalg.norm(mars.camera_position)) > 0.02
+    up = d @ (mars.camera_location / np.linalg.norm(mars.camera_location)) > 0.02
     near = up & (angle > 2) & (angle < 8)
     far = up & (angle > 25)
     assert near.sum() > 5 and far.sum() > 50
@@ -229,8 +229,8 @@ def test_no_band_on_the_ground_below_the_horizon(earth):
     lum = earth.render_hdr().linear_srgb[..., 1]
     h, w = lum.shape
     d = earth.pixel_directions(np.arange(h), np.full(h, w // 2))
-    mu = d @ (earth.camera_position / np.linalg.norm(earth.camera_position))
-    ground = np.nonzero(mu < -np.sqrt(1 - (earth.atmosphere.bottom_radius_m / np.linalg.norm(earth.camera_position)) ** 2) - 3e-4)[0]
+    mu = d @ (earth.camera_location / np.linalg.norm(earth.camera_location))
+    ground = np.nonzero(mu < -np.sqrt(1 - (earth.atmosphere.bottom_radius_m / np.linalg.norm(earth.camera_location)) ** 2) - 3e-4)[0]
     column = lum[ground, w // 2]
     assert len(column) > 20
     steps = column[:-1] / column[1:]                # rows from the horizon downward
@@ -305,7 +305,7 @@ def test_a_spectral_atmosphere_renders_every_wavelength(tmp_path):
         rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
         keep = away_from_sun(scene, rows, cols).ravel()
         dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
-        lut, _ = sky_radiance(scene.planet.tables, atm, np.tile(scene.camera_position, (len(dirs), 1)), dirs,
+        lut, _ = sky_radiance(scene.planet.tables, atm, np.tile(scene.camera_location, (len(dirs), 1)), dirs,
                               scene.sun_direction)
     finally:
         scene.close()

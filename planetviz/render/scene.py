@@ -290,7 +290,7 @@ class Scene(pv.Plotter):
         return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
     @property
-    def camera_position(self):
+    def camera_location(self):
         """Planet-centred camera position [m] (float64)."""
         return np.array(self.renderer.GetActiveCamera().GetPosition())
 

@@ -1,0 +1,253 @@
+"""The desktop window: a :class:`~planetviz.render.Scene` with PyVista widgets (``python app.py``).
+
+Sliders change the sun, the exposure and the atmosphere (standard mode: scattering coefficients, scale heights,
+the Mie phase, ozone, ground albedo; advanced mode: the physical quantities of the paper's Table 1 "(A)" rows),
+each labelled with its unit. Every atmosphere change goes through :meth:`Atmosphere.from_dict`, so an invalid
+value is refused with a visible message and the picture keeps its last good state; a valid one that needs new
+tables shows the quick view while they are computed in the background (the status line says so).
+
+Keys: 1-5 presets (earth, mars, exo-co2-thick, exo-mdwarf, earth-advanced); o orbit, l limb from low orbit,
+a aircraft, g ground at the horizon toward the sun; f fly between orbit and the ground; r renderer (tables /
+quick view); m mode (standard / advanced); t tone mapping; p screenshot (planetviz-<n>.png).
+"""
+from __future__ import annotations
+
+import copy
+import json
+import time
+
+import numpy as np
+
+from .atmosphere import AtmosphereError
+from .presets import PRESETS, load_atmosphere, load_dict
+
+PRESET_KEYS = {"1": "earth", "2": "mars", "3": "exo-co2-thick", "4": "exo-mdwarf", "5": "earth-advanced"}
+
+
+def _scaled(values, factor):
+    return [float(v) * factor for v in values]
+
+
+#: Standard-mode sliders: (label with unit, range, getter(dict) -> value, setter(dict, value)).
+STANDARD = [
+    ("Rayleigh x (scattering scale)", (0.1, 5.0), lambda d, b: 1.0,
+     lambda d, b, v: d["rayleigh"].update(scattering_m=_scaled(b["rayleigh"]["scattering_m"], v))),
+    ("Mie x (scattering and extinction scale)", (0.0, 10.0), lambda d, b: 1.0,
+     lambda d, b, v: d["mie"].update(scattering_m=_scaled(b["mie"]["scattering_m"], v),
+                                     extinction_m=_scaled(b["mie"]["extinction_m"], v))),
+    ("Rayleigh scale height [km]", (0.5, 50.0), lambda d, b: d["rayleigh"]["profile"]["scale_height_m"] / 1e3,
+     lambda d, b, v: d["rayleigh"]["profile"].update(scale_height_m=v * 1e3)),
+    ("Mie scale height [km]", (0.1, 20.0), lambda d, b: d["mie"]["profile"]["scale_height_m"] / 1e3,
+     lambda d, b, v: d["mie"]["profile"].update(scale_height_m=v * 1e3)),
+    ("Mie g1 (forward lobe, -1 < g < 1)", (-1.0, 1.0), lambda d, b: d["mie"]["phase"]["g1"][0],
+     lambda d, b, v: d["mie"]["phase"].update(g1=[v] * len(d["wavelengths_nm"]))),
+    ("ground albedo", (0.0, 1.0), lambda d, b: d["ground_albedo"][0],
+     lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
+]
+
+
+class PlanetApp:
+    """The window around a :class:`Scene` (``scene.show()`` runs it).
+
+    >>> from planetviz.render import Scene
+    >>> app = PlanetApp(Scene("earth", quality="draft"))   # doctest: +SKIP
+    >>> app.scene.show()                                    # doctest: +SKIP
+    """
+
+    def __init__(self, scene, mode="standard"):
+        self.scene = scene
+        self.mode = mode
+        self.message = ""
+        self._base = scene.atmosphere.to_dict()      # what the "x" (scale) sliders scale
+        self._source = self._base                     # the file's own form (advanced fields when it has them)
+        self._frame_ms = 0.0
+        self._shots = 0
+        self._status = scene.add_text("", position="lower_left", font_size=9, name="status")
+        self._alert = scene.add_text("", position="upper_edge", font_size=10, color="orange", name="message")
+        self._sun = (30.0, 135.0)
+        self._add_sliders()
+        for key, preset in PRESET_KEYS.items():
+            scene.add_key_event(key, lambda p=preset: self.load_preset(p))
+        for key, view in (("o", "orbit"), ("l", "limb"), ("a", "aircraft"), ("g", "ground")):
+            scene.add_key_event(key, lambda v=view: self.camera_preset(v))
+        scene.add_key_event("f", self.fly)
+        scene.add_key_event("r", self.toggle_renderer)
+        scene.add_key_event("m", self.toggle_mode)
+        scene.add_key_event("t", self.cycle_tone_mapping)
+        scene.add_key_event("p", self.save_screenshot)
+        self.camera_preset("orbit")
+
+    # ----------------------------------------------------------------------------------------- widgets
+    def _add_sliders(self):
+        s = self.scene
+        s.clear_slider_widgets()
+        self.sliders = {}
+        style = dict(style="modern", title_height=0.018, fmt="%.3g", tube_width=0.004, slider_width=0.012)
+        self.sliders["sun elevation [deg]"] = s.add_slider_widget(
+            lambda v: self.set_sun(elevation=v), (-20.0, 90.0), value=30.0, title="sun elevation [deg]",
+            pointa=(0.03, 0.93), pointb=(0.30, 0.93), **style)
+        self.sliders["sun azimuth [deg]"] = s.add_slider_widget(
+            lambda v: self.set_sun(azimuth=v), (0.0, 360.0), value=135.0, title="sun azimuth [deg]",
+            pointa=(0.03, 0.83), pointb=(0.30, 0.83), **style)
+        self.sliders["exposure log10 [m2/cd]"] = s.add_slider_widget(
+            lambda v: self.set_exposure(10.0 ** v), (-6.0, 0.0), value=float(np.log10(s.settings.exposure)),
+            title="exposure log10 [m2/cd]", pointa=(0.03, 0.73), pointb=(0.30, 0.73), **style)
+        rows = STANDARD if self.mode == "standard" else self._advanced_rows()
+        d = self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source
+        for i, (label, rng, get, put) in enumerate(rows):
+            y = 0.93 - 0.10 * i
+            try:
+                value = float(get(d, self._base))
+            except (KeyError, TypeError, IndexError):
+                continue                                # not in this atmosphere's form (e.g. advanced only)
+            self.sliders[label] = s.add_slider_widget(
+                lambda v, put=put, label=label: self.change_parameter(label, put, v), rng,
+                value=float(np.clip(value, *rng)), title=label, pointa=(0.70, y), pointb=(0.97, y), **style)
+        for widget in self.sliders.values():
+            widget.SetAnimationModeToOff()        # values change by dragging the handle, never by a stray click
+
+    def _advanced_rows(self):
+        """Advanced mode: the physical quantities of Table 1 "(A)" (present when the file is in advanced mode)."""
+        return [
+            ("number density N [1/m3]", (1e24, 1e26), lambda d, b: d["rayleigh"]["number_density_m3"],
+             lambda d, b, v: d["rayleigh"].update(number_density_m3=v)),
+            ("surface pressure [kPa]", (1.0, 2000.0), lambda d, b: d["rayleigh"]["surface_pressure_pa"] / 1e3,
+             lambda d, b, v: d["rayleigh"].update(surface_pressure_pa=v * 1e3)),
+            ("depolarisation delta", (0.0, 0.5), lambda d, b: d["rayleigh"]["depolarization"],
+             lambda d, b, v: d["rayleigh"].update(depolarization=v)),
+            ("turbidity T", (1.0, 10.0), lambda d, b: d["mie"]["scattering"]["turbidity"],
+             lambda d, b, v: d["mie"]["scattering"].update(turbidity=v)),
+            ("Junge exponent v", (2.0, 6.0), lambda d, b: d["mie"]["scattering"]["junge_exponent"],
+             lambda d, b, v: d["mie"]["scattering"].update(junge_exponent=v)),
+            ("particle radius r [um]", (0.01, 20.0), lambda d, b: d["mie"]["particles"]["radius_m"] * 1e6,
+             lambda d, b, v: d["mie"]["particles"].update(radius_m=v * 1e-6)),
+            ("particle index, imaginary k", (0.0, 0.1), lambda d, b: d["mie"]["particles"]["refractive_index_imag"][-1],
+             lambda d, b, v: d["mie"]["particles"].update(
+                 refractive_index_imag=[v] * len(d["mie"]["particles"]["refractive_index_imag"]))),
+            ("ground albedo", (0.0, 1.0), lambda d, b: d["ground_albedo"][0],
+             lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
+        ]
+
+    # ------------------------------------------------------------------------------------------ actions
+    def change_parameter(self, label, put, value):
+        """Apply one widget's value to a copy of the atmosphere; refuse it visibly if it is invalid."""
+        d = copy.deepcopy(self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source)
+        try:
+            put(d, self._base, float(value))
+            atm = load_dict(d)
+        except (AtmosphereError, ValueError, KeyError, TypeError) as exc:
+            self.show_message(f"{label} = {value:.4g} refused: {exc}")
+            self.refresh()
+            return False
+        self._source = d
+        self.show_message("")
+        self.scene.set_atmosphere(atm)
+        self.refresh()
+        return True
+
+    def load_preset(self, name):
+        try:
+            atm = load_atmosphere(name)
+            source = json.loads(PRESETS[name].read_text()) if name in PRESETS else atm.to_dict()
+        except (AtmosphereError, ValueError, OSError) as exc:
+            self.show_message(f"{name}: {exc}")
+            self.refresh()
+            return False
+        self._base, self._source = atm.to_dict(), source
+        self.scene.set_atmosphere(atm)
+        self._add_sliders()
+        self.show_message("")
+        self.refresh()
+        return True
+
+    def set_sun(self, elevation=None, azimuth=None):
+        el, az = self._sun
+        self._sun = (el if elevation is None else float(elevation), az if azimuth is None else float(azimuth))
+        self.scene.set_sun(*self._sun)
+        self.refresh()
+
+    def set_exposure(self, value):
+        self.scene.settings.exposure = float(value)
+        self.refresh()
+
+    def camera_preset(self, name):
+        s, lat = self.scene, 30.0
+        if name == "orbit":
+            s.view_from_space(latitude=lat, longitude=0.0)
+        elif name == "limb":
+            s.view_from_ground(latitude=lat, altitude=4e5, heading=self._sun[1], pitch=-17.0, fov=40.0)
+        elif name == "aircraft":
+            s.view_from_ground(latitude=lat, altitude=1e4, heading=self._sun[1], pitch=0.0, fov=60.0)
+        else:
+            s.view_from_ground(latitude=lat, altitude=1.7, heading=self._sun[1], pitch=5.0, fov=60.0)
+        s.set_sun(*self._sun)
+        self.refresh()
+
+    def fly(self, frames=60):
+        """Fly straight down from orbit to 1.7 m above the ground (or back up), a frame per step."""
+        r = np.linalg.norm(self.scene.camera_location) - self.scene.atmosphere.bottom_radius_m
+        down = r > 1e5
+        altitudes = np.geomspace(3 * self.scene.atmosphere.bottom_radius_m, 1.7, frames)
+        for alt in altitudes if down else altitudes[::-1]:
+            pitch = -90.0 + 90.0 * min(1.0, max(0.0, np.log10(1e7 / alt) / 2.0))
+            self.scene.view_from_ground(latitude=30.0, altitude=float(alt), heading=self._sun[1],
+                                        pitch=min(pitch, 5.0))
+            self.scene.set_sun(*self._sun)
+            self.refresh()
+
+    def toggle_renderer(self):
+        method = "fallback" if self.scene.renderer_in_use == "tables" else "tables"
+        self.scene.add_planet(self.scene.atmosphere, quality=self.scene._quality, surface=self.scene._surface,
+                              cache=self.scene._cache, method=method)
+        self.refresh()
+
+    def toggle_mode(self):
+        self.mode = "advanced" if self.mode == "standard" else "standard"
+        self._add_sliders()
+        self.refresh()
+
+    def cycle_tone_mapping(self):
+        order = ["exponential", "filmic", "clamp"]
+        s = self.scene.settings
+        s.tone_mapping = order[(order.index(s.tone_mapping) + 1) % 3]
+        self.refresh()
+
+    def save_screenshot(self):
+        self._shots += 1
+        path = f"planetviz-{self._shots}.png"
+        self.scene.screenshot(path)
+        self.show_message(f"saved {path}")
+
+    # ------------------------------------------------------------------------------------------- status
+    def show_message(self, text):
+        self.message = text
+        self._alert.SetText(7, text)          # 7: the upper edge of the corner annotation
+
+    def status_text(self):
+        s = self.scene
+        job = s.precompute_progress
+        tables = f"tables {job[0]} {100 * job[1]:.0f}%" if job else \
+            (f"tables failed: {s.table_error}" if s.table_error else "tables ready")
+        return (f"{s.atmosphere.name} | renderer: {s.renderer_in_use} | {tables} | "
+                f"frame {self._frame_ms:.0f} ms | {self.mode} mode | tone mapping {s.settings.tone_mapping}")
+
+    def refresh(self):
+        """Render once, timing the frame, and update the status line."""
+        t0 = time.perf_counter()
+        self.scene.render()
+        self._frame_ms = 1e3 * (time.perf_counter() - t0)
+        self._status.SetText(0, self.status_text())
+        self.scene.render()
+
+    def poll(self, step=None):
+        """Timer callback: show finished tables and the precompute progress."""
+        if self.scene.precompute_progress is not None or self.scene.renderer_in_use == "fallback":
+            self.refresh()
+
+
+def run(scene, mode="standard"):
+    """Open the window (blocks until it is closed)."""
+    app = PlanetApp(scene, mode=mode)
+    scene.add_timer_event(max_steps=10 ** 9, duration=250, callback=app.poll)
+    scene.show(title="planetviz")
+    return app

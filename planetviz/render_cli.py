@@ -1,0 +1,200 @@
+"""Off-screen pictures: the options and the work of ``planetviz render`` and of ``python app.py`` with an output.
+
+    planetviz render --preset mars --view ground --sun-elevation 3 --sun-azimuth 0 --size 1920x1080 \\
+                     --screenshot out.png [--exr out.exr]
+    planetviz render ... --sweep-sun -6 30 2 --screenshot frames/sun.png      # numbered frames sun_0000.png ...
+    planetviz render ... --flight 120 --screenshot frames/fly.png             # orbit to the ground in 120 frames
+    planetviz render ... --fisheye dome.png [--fisheye-size 2048]              # 180 deg dome master
+    planetviz render ... --panorama sky.exr [--panorama-size 2048x1024]        # equirectangular HDR sky
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .presets import PRESETS
+
+
+def _size(text):
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size: WIDTHxHEIGHT, e.g. 1920x1080, got {text!r}") from None
+    if not (1 <= w <= 16384 and 1 <= h <= 16384):
+        raise argparse.ArgumentTypeError(f"size: 1 to 16384 pixels each way, got {text!r}")
+    return w, h
+
+
+def add_render_options(p):
+    """The options shared by ``planetviz render`` and ``app.py``."""
+    presets = ", ".join(PRESETS)
+    p.add_argument("--atmosphere", "--preset", dest="atmosphere", default="earth",
+                   help=f"preset ({presets}) or JSON file")
+    p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
+    p.add_argument("--view", choices=("space", "ground"), default="space")
+    p.add_argument("--latitude", type=float, default=0.0, help="site below the camera [deg]")
+    p.add_argument("--longitude", type=float, default=0.0, help="[deg]")
+    p.add_argument("--distance", type=float, default=None, help="space: from the planet centre [m]")
+    p.add_argument("--altitude", type=float, default=2.0, help="ground: above the ground [m]")
+    p.add_argument("--heading", type=float, default=0.0, help="ground: view azimuth from north [deg]")
+    p.add_argument("--pitch", type=float, default=10.0, help="ground: view above the horizontal [deg]")
+    p.add_argument("--fov", type=float, default=None, help="vertical field of view [deg]")
+    p.add_argument("--sun-elevation", type=float, default=30.0, help="seen from the site [deg]")
+    p.add_argument("--sun-azimuth", type=float, default=135.0, help="from north through east [deg]")
+    p.add_argument("--exposure", type=float, default=1e-4, help="multiplies linear sRGB in cd/m^2")
+    p.add_argument("--tone-mapping", choices=("exponential", "filmic", "clamp"), default="exponential")
+    p.add_argument("--uniform-albedo", action="store_true", help="the atmosphere's ground albedo, no texture")
+    p.add_argument("--method", choices=("tables", "fallback"), default="tables",
+                   help="tables (all orders) or the quick view (single scattering, no precompute)")
+    p.add_argument("--samples", type=int, default=8, help="fallback: points per path")
+    p.add_argument("--terms", choices=("physical", "artistic"), default="physical",
+                   help="fallback: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
+    p.add_argument("--size", type=_size, default=(960, 540), help="WIDTHxHEIGHT")
+    p.add_argument("--screenshot", default=None, help="PNG of the tone-mapped view (batch: the name's stem)")
+    p.add_argument("--exr", default=None, help="OpenEXR of the linear radiance (batch: the name's stem)")
+    p.add_argument("--sweep-sun", nargs=3, type=float, metavar=("START", "STOP", "STEP"), default=None,
+                   help="batch: one frame per sun elevation from START to STOP [deg]")
+    p.add_argument("--flight", type=int, default=None, metavar="FRAMES",
+                   help="batch: fly from 4 planet radii straight down to 1.7 m above the site in FRAMES frames")
+    p.add_argument("--fisheye", default=None, help="180 deg dome master (PNG tone-mapped, or .exr linear)")
+    p.add_argument("--fisheye-size", type=int, default=1024)
+    p.add_argument("--panorama", default=None, help="equirectangular HDR sky (OpenEXR)")
+    p.add_argument("--panorama-size", type=_size, default=(2048, 1024), help="WIDTHxHEIGHT")
+
+
+def wants_output(args):
+    return any((args.screenshot, args.exr, args.fisheye, args.panorama))
+
+
+def _numbered(path, i):
+    p = Path(path)
+    return p.with_name(f"{p.stem}_{i:04d}{p.suffix}")
+
+
+class _Bar:
+    def __init__(self, total, label):
+        self.total, self.label = total, label
+
+    def __call__(self, i):
+        filled = int(round(30 * i / self.total))
+        sys.stdout.write(f"\r{self.label} [{'#' * filled}{'.' * (30 - filled)}] {i}/{self.total}")
+        if i == self.total:
+            sys.stdout.write("\n")
+        sys.stdout.flush()
+
+
+def set_view(scene, args, altitude=None):
+    if args.view == "space" and altitude is None:
+        scene.view_from_space(distance=args.distance, latitude=args.latitude, longitude=args.longitude,
+                              fov=args.fov or 30.0)
+    else:
+        scene.view_from_ground(latitude=args.latitude, longitude=args.longitude,
+                               altitude=args.altitude if altitude is None else altitude,
+                               heading=args.heading, pitch=args.pitch, fov=args.fov or 60.0)
+
+
+def _frame(scene, args, i=None):
+    for path, write in ((args.screenshot, scene.screenshot), (args.exr, scene.render_hdr)):
+        if path:
+            out = path if i is None else _numbered(path, i)
+            Path(out).parent.mkdir(parents=True, exist_ok=True)
+            write(str(out))
+            if i is None:
+                print(f"wrote {out}")
+
+
+def run_render(args) -> int:
+    """Render what ``args`` asks for, off-screen."""
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+    from .render import Scene
+    scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
+                  exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
+                  off_screen=True, method=args.method, quick_samples=args.samples, quick_terms=args.terms)
+    try:
+        set_view(scene, args)
+        scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth)
+        if args.sweep_sun:
+            start, stop, step = args.sweep_sun
+            if step == 0 or (stop - start) / step < 0:
+                raise ValueError(f"sweep-sun: STEP must be non-zero and go from START toward STOP, got {step:g}")
+            elevations = np.arange(start, stop + 0.5 * step, step)
+            bar = _Bar(len(elevations), "sun sweep")
+            for i, el in enumerate(elevations):
+                scene.set_sun(elevation=float(el), azimuth=args.sun_azimuth)
+                _frame(scene, args, i)
+                bar(i + 1)
+        elif args.flight:
+            if args.flight < 2:
+                raise ValueError(f"flight: at least 2 frames, got {args.flight}")
+            top = 3.0 * scene.atmosphere.bottom_radius_m
+            altitudes = np.geomspace(top, 1.7, args.flight)
+            bar = _Bar(len(altitudes), "flight")
+            for i, alt in enumerate(altitudes):
+                # Look down from orbit, level out toward the horizon below 100 km.
+                pitch = -90.0 + 90.0 * min(1.0, max(0.0, np.log10(1e7 / alt) / np.log10(1e7 / 1e5)))
+                scene.view_from_ground(latitude=args.latitude, longitude=args.longitude, altitude=float(alt),
+                                       heading=args.heading, pitch=min(pitch, args.pitch), fov=args.fov or 60.0)
+                scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth,
+                              latitude=args.latitude, longitude=args.longitude)
+                _frame(scene, args, i)
+                bar(i + 1)
+        else:
+            _frame(scene, args)
+        if args.fisheye or args.panorama:
+            _sky_images(scene, args)
+    finally:
+        scene.close()
+    return 0
+
+
+def _sky_images(scene, args):
+    from .panorama import equirectangular_directions, fisheye_directions, render_directions
+    from .render.hdr import write_exr
+    from .tables import QUALITY, TableCache, precompute
+    atm = scene.atmosphere
+    tables = precompute(atm, QUALITY[args.quality], cache=TableCache())
+    cam = scene.camera_location
+    jobs = []
+    if args.fisheye:
+        jobs.append((args.fisheye, fisheye_directions(cam, args.fisheye_size, heading_deg=args.heading)))
+    if args.panorama:
+        w, h = args.panorama_size
+        jobs.append((args.panorama, equirectangular_directions(cam, w, h)))
+    for path, dirs in jobs:
+        radiance = render_directions(tables, atm, cam, dirs, scene.sun_direction)
+        rgb = _linear_srgb(radiance, atm)
+        if str(path).lower().endswith(".exr"):
+            from .optics.light import star_irradiance
+            write_exr(path, rgb, radiance * star_irradiance(atm.star, atm.wavelengths_nm), atm.wavelengths_nm,
+                      {"atmosphere": atm.name, "camera_position_m": list(map(float, cam)),
+                       "sun_direction": list(map(float, scene.sun_direction)),
+                       "projection": "fisheye 180 deg, zenith at the centre" if path == args.fisheye
+                       else "equirectangular: azimuth from north through east, elevation up"})
+        else:
+            _write_png(path, rgb, scene.settings)
+        print(f"wrote {path}")
+
+
+def _linear_srgb(radiance, atm):
+    from .color import linear_srgb_matrix
+    return (radiance @ linear_srgb_matrix(atm)).astype(np.float32)
+
+
+def _write_png(path, rgb, settings):
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from .color import display_colour
+    img = np.round(display_colour(rgb, settings.exposure, settings.tone_mapping) * 255).astype(np.uint8)
+    h, w, _ = img.shape
+    data = vtkImageData()
+    data.SetDimensions(w, h, 1)
+    data.GetPointData().SetScalars(numpy_to_vtk(np.ascontiguousarray(img[::-1]).reshape(-1, 3)))
+    writer = vtkPNGWriter()
+    writer.SetFileName(str(path))
+    writer.SetInputData(data)
+    writer.Write()

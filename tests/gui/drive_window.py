@@ -1,0 +1,96 @@
+"""Drives the planetviz window as a user would (run by tests/test_app.py under Xvfb, never on its own).
+
+Opens the real window (X11, no off-screen rendering), drags the ground-albedo slider with mouse events, drags the
+Mie g1 slider to 1 (an invalid value), presses keys, and writes what it saw to the JSON file named on the command
+line, with screenshots next to it.
+"""
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from planetviz.gui import PlanetApp
+from planetviz.render import Scene
+
+
+def drag(scene, widget, value):
+    """What a user does: aim at the slider's handle, press, move the mouse along the tube pixel by pixel while
+    watching the value, release when it reads ``value`` or the handle stops at the end of the tube. A press
+    that misses the handle (the value does not follow the mouse) is released and aimed again nearby."""
+    rep = widget.GetRepresentation()
+    w, h = scene.ren_win.GetSize()
+    p1 = np.array(rep.GetPoint1Coordinate().GetValue()[:2]) * [w, h]
+    p2 = np.array(rep.GetPoint2Coordinate().GetValue()[:2]) * [w, h]
+    lo, hi = rep.GetMinimumValue(), rep.GetMaximumValue()
+    y = int(round(p1[1]))
+    iren = scene.iren.interactor
+    guess = int(round(p1[0] + (p2[0] - p1[0]) * (rep.GetValue() - lo) / (hi - lo)))
+    step = 1 if value > rep.GetValue() else -1
+    for offset in (0, -4, 4, -8, 8, -12, 12, -16, 16):
+        x = guess + offset
+        iren.SetEventInformation(x, y)
+        iren.MouseMoveEvent()
+        iren.LeftButtonPressEvent()
+        start = rep.GetValue()
+        for _ in range(3):
+            x += step
+            iren.SetEventInformation(x, y)
+            iren.MouseMoveEvent()
+        if rep.GetValue() != start:
+            break
+        iren.LeftButtonReleaseEvent()
+    else:
+        raise AssertionError("could not grab the slider's handle")
+    end = int(p2[0]) + 8 if step > 0 else int(p1[0]) - 8
+    while x != end and (rep.GetValue() < value if step > 0 else rep.GetValue() > value):
+        x += step
+        iren.SetEventInformation(x, y)
+        iren.MouseMoveEvent()
+    iren.LeftButtonReleaseEvent()
+
+
+def press(scene, key):
+    iren = scene.iren.interactor
+    iren.SetKeyEventInformation(0, 0, key, 0, key)
+    iren.KeyPressEvent()
+    iren.CharEvent()
+    iren.KeyReleaseEvent()
+
+
+def main(out):
+    out = Path(out)
+    scene = Scene("earth", quality="draft", window_size=(800, 500), off_screen=False)
+    app = PlanetApp(scene)
+    scene.show(interactive_update=True, auto_close=False)
+    result = {"window": scene.ren_win.GetClassName(), "off_screen": bool(scene.ren_win.GetOffScreenRendering())}
+    app.camera_preset("ground")
+    app.refresh()
+    before = scene.screenshot(str(out.with_name("window-before.png")))
+    drag(scene, app.sliders["ground albedo"], 0.9)
+    scene.wait_for_tables(120)
+    app.refresh()
+    after = scene.screenshot(str(out.with_name("window-albedo.png")))
+    result["albedo"] = float(scene.atmosphere.ground_albedo[0])
+    result["albedo_change"] = float(np.abs(after.astype(float) - before).mean())
+    g1_before = float(scene.atmosphere.mie.g1[0])
+    drag(scene, app.sliders["Mie g1 (forward lobe, -1 < g < 1)"], 1.0)    # to the end of the tube: g = 1
+    app.refresh()
+    refused = scene.screenshot(str(out.with_name("window-refused.png")))
+    result["message"] = app.message
+    result["g1_slider"] = app.sliders["Mie g1 (forward lobe, -1 < g < 1)"].GetRepresentation().GetValue()
+    result["g1_before"], result["g1_after"] = g1_before, float(scene.atmosphere.mie.g1[0])
+    h = refused.shape[0]
+    # The picture below the message line (drawn at the top edge): unchanged.
+    result["picture_change_after_refusal"] = float(np.abs(refused[h // 5:].astype(float) - after[h // 5:]).mean())
+    press(scene, "2")                                       # the Mars preset
+    app.refresh()
+    scene.screenshot(str(out.with_name("window-mars.png")))
+    result["after_key_2"] = scene.atmosphere.name
+    result["status"] = app.status_text()
+    out.write_text(json.dumps(result))
+    scene.close()
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
