@@ -164,6 +164,9 @@ class PlanetApp:
         el, az = self._sun
         self._sun = (el if elevation is None else float(elevation), az if azimuth is None else float(azimuth))
         self.scene.set_sun(*self._sun)
+        for name, value in zip(("sun elevation [deg]", "sun azimuth [deg]"), self._sun):
+            if name in self.sliders:                  # keep the sliders in step when set from code or keys
+                self.sliders[name].GetRepresentation().SetValue(value)
         self.refresh()
 
     def set_exposure(self, value):

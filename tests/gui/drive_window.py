@@ -60,7 +60,7 @@ def press(scene, key):
 
 def main(out):
     out = Path(out)
-    scene = Scene("earth", quality="draft", window_size=(800, 500), off_screen=False)
+    scene = Scene("earth", quality="draft", window_size=(480, 300), off_screen=False)
     app = PlanetApp(scene)
     scene.show(interactive_update=True, auto_close=False)
     result = {"window": scene.ren_win.GetClassName(), "off_screen": bool(scene.ren_win.GetOffScreenRendering())}
