@@ -24,7 +24,8 @@ def main(argv=None):
         from planetviz.render import Scene
         scene = Scene(args.atmosphere, quality=args.quality, window_size=args.size, method=args.method,
                       exposure=args.exposure, tone_mapping=args.tone_mapping)
-        run(scene, mode=args.mode)
+        from pathlib import Path
+        run(scene, mode=args.mode, atmosphere_file=args.atmosphere if Path(args.atmosphere).is_file() else None)
         return 0
     except (ValueError, OSError) as exc:
         print(f"app.py: error: {exc}", file=sys.stderr)

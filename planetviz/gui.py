@@ -6,9 +6,12 @@ each labelled with its unit. Every atmosphere change goes through :meth:`Atmosph
 value is refused with a visible message and the picture keeps its last good state; a valid one that needs new
 tables shows the quick view while they are computed in the background (the status line says so).
 
-Keys: 1-5 presets (earth, mars, exo-co2-thick, exo-mdwarf, earth-advanced); o orbit, l limb from low orbit,
-a aircraft, g ground at the horizon toward the sun; f fly between orbit and the ground; r renderer (tables /
-quick view); m mode (standard / advanced); t tone mapping; p screenshot (planetviz-<n>.png).
+Keys (chosen clear of VTK's and PyVista's own): F1-F5 presets (earth, mars, exo-co2-thick, exo-mdwarf,
+earth-advanced); o orbit, l limb from low orbit, a aircraft, g ground at the horizon toward the sun; y fly
+between orbit and the ground; x renderer (tables / quick view); k mode (standard / advanced); t tone mapping;
+i quality (draft / standard / high); z screenshot (planetviz-<n>.png); F9 save the atmosphere
+(planetviz-atmosphere-<n>.json); F6 reload the atmosphere file the app was started with (edit it in a text
+editor, press F6: an invalid file is refused with a message, the picture stays).
 """
 from __future__ import annotations
 
@@ -21,7 +24,8 @@ import numpy as np
 from .atmosphere import AtmosphereError
 from .presets import PRESETS, load_atmosphere, load_dict
 
-PRESET_KEYS = {"1": "earth", "2": "mars", "3": "exo-co2-thick", "4": "exo-mdwarf", "5": "earth-advanced"}
+PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
+QUALITIES = ("draft", "standard", "high")
 
 
 def _scaled(values, factor):
@@ -41,6 +45,13 @@ STANDARD = [
      lambda d, b, v: d["mie"]["profile"].update(scale_height_m=v * 1e3)),
     ("Mie g1 (forward lobe, -1 < g < 1)", (-1.0, 1.0), lambda d, b: d["mie"]["phase"]["g1"][0],
      lambda d, b, v: d["mie"]["phase"].update(g1=[v] * len(d["wavelengths_nm"]))),
+    ("Mie g2 (second lobe, -1 < g < 1)", (-1.0, 1.0), lambda d, b: d["mie"]["phase"]["g2"][0],
+     lambda d, b, v: d["mie"]["phase"].update(g2=[v] * len(d["wavelengths_nm"]))),
+    ("Mie alpha (weight of g1)", (0.0, 1.0), lambda d, b: d["mie"]["phase"]["alpha"][0],
+     lambda d, b, v: d["mie"]["phase"].update(alpha=[v] * len(d["wavelengths_nm"]))),
+    ("ozone x (absorbers' scale, 0 = off)", (0.0, 3.0), lambda d, b: 1.0 if b["absorption"] else 0.0,
+     lambda d, b, v: d.update(absorption=[{**layer, "extinction_m": _scaled(layer["extinction_m"], v)}
+                                          for layer in b["absorption"]])),
     ("ground albedo", (0.0, 1.0), lambda d, b: d["ground_albedo"][0],
      lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
 ]
@@ -54,12 +65,14 @@ class PlanetApp:
     >>> app.scene.show()                                    # doctest: +SKIP
     """
 
-    def __init__(self, scene, mode="standard"):
+    def __init__(self, scene, mode="standard", atmosphere_file=None):
         self.scene = scene
         self.mode = mode
         self.message = ""
         self._base = scene.atmosphere.to_dict()      # what the "x" (scale) sliders scale
         self._source = self._base                     # the file's own form (advanced fields when it has them)
+        self._source_base = self._source              # what the advanced "x" sliders scale
+        self._file = atmosphere_file                  # the atmosphere file reloaded by F6, if any
         self._frame_ms = 0.0
         self._shots = 0
         self._status = scene.add_text("", position="lower_left", font_size=9, name="status")
@@ -70,11 +83,14 @@ class PlanetApp:
             scene.add_key_event(key, lambda p=preset: self.load_preset(p))
         for key, view in (("o", "orbit"), ("l", "limb"), ("a", "aircraft"), ("g", "ground")):
             scene.add_key_event(key, lambda v=view: self.camera_preset(v))
-        scene.add_key_event("f", self.fly)
-        scene.add_key_event("r", self.toggle_renderer)
-        scene.add_key_event("m", self.toggle_mode)
+        scene.add_key_event("y", self.fly)
+        scene.add_key_event("x", self.toggle_renderer)
+        scene.add_key_event("k", self.toggle_mode)
         scene.add_key_event("t", self.cycle_tone_mapping)
-        scene.add_key_event("p", self.save_screenshot)
+        scene.add_key_event("i", self.cycle_quality)
+        scene.add_key_event("z", self.save_screenshot)
+        scene.add_key_event("F9", self.save_atmosphere)
+        scene.add_key_event("F6", self.reload_file)
         self.camera_preset("orbit")
 
     # ----------------------------------------------------------------------------------------- widgets
@@ -95,14 +111,15 @@ class PlanetApp:
         rows = STANDARD if self.mode == "standard" else self._advanced_rows()
         d = self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source
         for i, (label, rng, get, put) in enumerate(rows):
-            y = 0.93 - 0.10 * i
+            y = 0.93 - 0.085 * i
             try:
                 value = float(get(d, self._base))
             except (KeyError, TypeError, IndexError):
                 continue                                # not in this atmosphere's form (e.g. advanced only)
             self.sliders[label] = s.add_slider_widget(
                 lambda v, put=put, label=label: self.change_parameter(label, put, v), rng,
-                value=float(np.clip(value, *rng)), title=label, pointa=(0.70, y), pointb=(0.97, y), **style)
+                value=float(np.clip(value, *rng)), title=f"{label}  {rng[0]:g} to {rng[1]:g}", pointa=(0.70, y),
+                pointb=(0.97, y), **style)
         for widget in self.sliders.values():
             widget.SetAnimationModeToOff()        # values change by dragging the handle, never by a stray click
 
@@ -124,6 +141,13 @@ class PlanetApp:
             ("particle index, imaginary k", (0.0, 0.1), lambda d, b: d["mie"]["particles"]["refractive_index_imag"][-1],
              lambda d, b, v: d["mie"]["particles"].update(
                  refractive_index_imag=[v] * len(d["mie"]["particles"]["refractive_index_imag"]))),
+            ("particle K x (Eq. 17's K, scale)", (0.1, 5.0), lambda d, b: 1.0 if "k" in d["mie"]["scattering"] else None,
+             lambda d, b, v: d["mie"]["scattering"].update(
+                 k=_scaled(self._source_base["mie"]["scattering"]["k"], v))),
+            ("dust amount x (particle number density, scale)", (0.0, 5.0),
+             lambda d, b: 1.0 if "number_density_m3" in d["mie"]["particles"] else None,
+             lambda d, b, v: d["mie"]["particles"].update(
+                 number_density_m3=self._source_base["mie"]["particles"]["number_density_m3"] * v)),
             ("ground albedo", (0.0, 1.0), lambda d, b: d["ground_albedo"][0],
              lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
         ]
@@ -154,6 +178,7 @@ class PlanetApp:
             self.refresh()
             return False
         self._base, self._source = atm.to_dict(), source
+        self._source_base = copy.deepcopy(source)
         self.scene.set_atmosphere(atm)
         self._add_sliders()
         self.show_message("")
@@ -198,6 +223,45 @@ class PlanetApp:
             self.scene.set_sun(*self._sun)
             self.refresh()
 
+    def cycle_quality(self):
+        s = self.scene
+        quality = QUALITIES[(QUALITIES.index(s._quality) + 1) % len(QUALITIES)]
+        s._quality = quality
+        s.set_atmosphere(s.atmosphere, force=True)
+        self.refresh()
+
+    def save_atmosphere(self):
+        """Write the current atmosphere (its file form) to planetviz-atmosphere-<n>.json."""
+        self._shots += 1
+        path = f"planetviz-atmosphere-{self._shots}.json"
+        with open(path, "w") as f:
+            json.dump(self._source, f, indent=2)
+        self.show_message(f"saved {path}")
+        self.refresh()
+
+    def reload_file(self):
+        """Load the atmosphere file again (after editing it): refused with a message when it is invalid."""
+        if self._file is None:
+            self.show_message("no atmosphere file: start with --atmosphere FILE.json")
+            self.refresh()
+            return False
+        try:
+            with open(self._file) as f:
+                text = f.read()
+            from .atmosphere import parse_json
+            source = parse_json(text, source=str(self._file))
+            atm = load_dict(source)
+        except (AtmosphereError, ValueError, OSError) as exc:
+            self.show_message(f"{self._file}: {exc}")
+            self.refresh()
+            return False
+        self._base, self._source, self._source_base = atm.to_dict(), source, copy.deepcopy(source)
+        self.scene.set_atmosphere(atm)
+        self._add_sliders()
+        self.show_message("")
+        self.refresh()
+        return True
+
     def toggle_renderer(self):
         method = "fallback" if self.scene.renderer_in_use == "tables" else "tables"
         self.scene.add_planet(self.scene.atmosphere, quality=self.scene._quality, surface=self.scene._surface,
@@ -232,7 +296,8 @@ class PlanetApp:
         tables = f"tables {job[0]} {100 * job[1]:.0f}%" if job else \
             (f"tables failed: {s.table_error}" if s.table_error else "tables ready")
         return (f"{s.atmosphere.name} | renderer: {s.renderer_in_use} | {tables} | "
-                f"frame {self._frame_ms:.0f} ms | {self.mode} mode | tone mapping {s.settings.tone_mapping}")
+                f"{s._quality} quality | frame {self._frame_ms:.0f} ms | {self.mode} mode | "
+                f"tone mapping {s.settings.tone_mapping}")
 
     def refresh(self):
         """Render once, timing the frame, and update the status line."""
@@ -248,9 +313,9 @@ class PlanetApp:
             self.refresh()
 
 
-def run(scene, mode="standard"):
+def run(scene, mode="standard", atmosphere_file=None):
     """Open the window (blocks until it is closed)."""
-    app = PlanetApp(scene, mode=mode)
+    app = PlanetApp(scene, mode=mode, atmosphere_file=atmosphere_file)
     scene.add_timer_event(max_steps=10 ** 9, duration=250, callback=app.poll)
     scene.show(title="planetviz")
     return app

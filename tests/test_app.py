@@ -48,7 +48,9 @@ def test_the_window_opens_responds_to_widgets_and_refuses_invalid_values(xvfb, t
     assert "g1" in r["message"] and "[-0.999, 0.999]" in r["message"]
     assert r["g1_slider"] == 1.0 and r["g1_after"] == r["g1_before"] < 1
     assert r["picture_change_after_refusal"] < 0.5
-    assert r["after_key_2"] == "mars"
+    # A hand-edited file with an invalid field, reloaded: refused with the field named, the scene unchanged.
+    assert "bottom_radius_m" in r["file_message"] and r["file_refused_kept"]
+    assert r["after_key_F2"] == "mars"
     assert "renderer:" in r["status"]
 
 

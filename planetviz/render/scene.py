@@ -133,10 +133,11 @@ class Scene(pv.Plotter):
         self._method = method
         return self.planet if method == "tables" else self.quick
 
-    def set_atmosphere(self, atmosphere, wait=False):
+    def set_atmosphere(self, atmosphere, wait=False, force=False):
         """Change the atmosphere, keeping the view. With table rendering, a change that needs new tables shows
         the quick view at once while the tables are computed in a background thread; the next render after they
-        are ready shows them (:attr:`renderer_in_use` says which is shown). ``wait``: compute in the foreground."""
+        are ready shows them (:attr:`renderer_in_use` says which is shown). ``wait``: compute in the foreground;
+        ``force``: new tables even if the parameters did not change (after a change of quality)."""
         atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
         old = self._atmosphere
         self._atmosphere = atm
@@ -145,8 +146,8 @@ class Scene(pv.Plotter):
             self._show_quick()
             return
         sizes = QUALITY[self._quality]
-        same = (parameters_hash(stage_parameters(old, sizes)["multiple_scattering"])
-                == parameters_hash(stage_parameters(atm, sizes)["multiple_scattering"]))
+        same = not force and (parameters_hash(stage_parameters(old, sizes)["multiple_scattering"])
+                              == parameters_hash(stage_parameters(atm, sizes)["multiple_scattering"]))
         if same:                              # e.g. only the star or the name changed: the tables stay
             tables = self.planet.tables if self.planet is not None else None
             if tables is not None:

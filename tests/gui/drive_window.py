@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from planetviz.gui import PlanetApp
+from planetviz.presets import PRESETS
 from planetviz.render import Scene
 
 
@@ -52,7 +53,7 @@ def drag(scene, widget, value):
 
 def press(scene, key):
     iren = scene.iren.interactor
-    iren.SetKeyEventInformation(0, 0, key, 0, key)
+    iren.SetKeyEventInformation(0, 0, key if len(key) == 1 else "\0", 0, key)
     iren.KeyPressEvent()
     iren.CharEvent()
     iren.KeyReleaseEvent()
@@ -60,8 +61,10 @@ def press(scene, key):
 
 def main(out):
     out = Path(out)
-    scene = Scene("earth", quality="draft", window_size=(480, 300), off_screen=False)
-    app = PlanetApp(scene)
+    atmosphere_file = out.with_name("my-planet.json")
+    atmosphere_file.write_text(PRESETS["earth"].read_text())
+    scene = Scene(str(atmosphere_file), quality="draft", window_size=(480, 300), off_screen=False)
+    app = PlanetApp(scene, atmosphere_file=atmosphere_file)
     scene.show(interactive_update=True, auto_close=False)
     result = {"window": scene.ren_win.GetClassName(), "off_screen": bool(scene.ren_win.GetOffScreenRendering())}
     app.camera_preset("ground")
@@ -83,10 +86,18 @@ def main(out):
     h = refused.shape[0]
     # The picture below the message line (drawn at the top edge): unchanged.
     result["picture_change_after_refusal"] = float(np.abs(refused[h // 5:].astype(float) - after[h // 5:]).mean())
-    press(scene, "2")                                       # the Mars preset
+    # The file edited by hand with a negative radius, then reloaded (F6): refused, named, nothing changes.
+    good = scene.atmosphere
+    data = json.loads(atmosphere_file.read_text())
+    data["bottom_radius_m"] = -5.0
+    atmosphere_file.write_text(json.dumps(data))
+    press(scene, "F6")
+    result["file_message"] = app.message
+    result["file_refused_kept"] = scene.atmosphere is good
+    press(scene, "F2")                                      # the Mars preset
     app.refresh()
     scene.screenshot(str(out.with_name("window-mars.png")))
-    result["after_key_2"] = scene.atmosphere.name
+    result["after_key_F2"] = scene.atmosphere.name
     result["status"] = app.status_text()
     out.write_text(json.dumps(result))
     scene.close()
