@@ -78,6 +78,7 @@ class PlanetApp:
         self._status = scene.add_text("", position="lower_left", font_size=9, name="status")
         self._alert = scene.add_text("", position="upper_edge", font_size=10, color="orange", name="message")
         self._sun = (30.0, 135.0)
+        self._building = False
         self._add_sliders()
         for key, preset in PRESET_KEYS.items():
             scene.add_key_event(key, lambda p=preset: self.load_preset(p))
@@ -96,6 +97,7 @@ class PlanetApp:
     # ----------------------------------------------------------------------------------------- widgets
     def _add_sliders(self):
         s = self.scene
+        self._building = True             # PyVista calls each slider's callback once when it creates it
         s.clear_slider_widgets()
         self.sliders = {}
         style = dict(style="modern", title_height=0.018, fmt="%.3g", tube_width=0.004, slider_width=0.012)
@@ -122,11 +124,16 @@ class PlanetApp:
                 pointb=(0.97, y), **style)
         for widget in self.sliders.values():
             widget.SetAnimationModeToOff()        # values change by dragging the handle, never by a stray click
+        self._building = False
 
     def _advanced_rows(self):
         """Advanced mode: the physical quantities of Table 1 "(A)" (present when the file is in advanced mode)."""
         return [
-            ("number density N [1/m3]", (1e24, 1e26), lambda d, b: d["rayleigh"]["number_density_m3"],
+            ("molecular refractivity (n - 1) x", (0.1, 10.0),
+             lambda d, b: 1.0 if "refractive_index" in d["rayleigh"] else None,
+             lambda d, b, v: d["rayleigh"].update(refractive_index=[
+                 1.0 + (n - 1.0) * v for n in self._source_base["rayleigh"]["refractive_index"]])),
+            ("number density N [1/m3]", (1e22, 1e27), lambda d, b: d["rayleigh"]["number_density_m3"],
              lambda d, b, v: d["rayleigh"].update(number_density_m3=v)),
             ("surface pressure [kPa]", (1.0, 2000.0), lambda d, b: d["rayleigh"]["surface_pressure_pa"] / 1e3,
              lambda d, b, v: d["rayleigh"].update(surface_pressure_pa=v * 1e3)),
@@ -138,6 +145,10 @@ class PlanetApp:
              lambda d, b, v: d["mie"]["scattering"].update(junge_exponent=v)),
             ("particle radius r [um]", (0.01, 20.0), lambda d, b: d["mie"]["particles"]["radius_m"] * 1e6,
              lambda d, b, v: d["mie"]["particles"].update(radius_m=v * 1e-6)),
+            ("particle index, real part", (1.0, 2.0),
+             lambda d, b: d["mie"]["particles"]["refractive_index_real"][0],
+             lambda d, b, v: d["mie"]["particles"].update(
+                 refractive_index_real=[v] * len(d["mie"]["particles"]["refractive_index_real"]))),
             ("particle index, imaginary k", (0.0, 0.1), lambda d, b: d["mie"]["particles"]["refractive_index_imag"][-1],
              lambda d, b, v: d["mie"]["particles"].update(
                  refractive_index_imag=[v] * len(d["mie"]["particles"]["refractive_index_imag"]))),
@@ -155,11 +166,13 @@ class PlanetApp:
     # ------------------------------------------------------------------------------------------ actions
     def change_parameter(self, label, put, value):
         """Apply one widget's value to a copy of the atmosphere; refuse it visibly if it is invalid."""
+        if self._building:
+            return None
         d = copy.deepcopy(self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source)
         try:
             put(d, self._base, float(value))
             atm = load_dict(d)
-        except (AtmosphereError, ValueError, KeyError, TypeError) as exc:
+        except (AtmosphereError, ValueError, KeyError, TypeError, AttributeError) as exc:
             self.show_message(f"{label} = {value:.4g} refused: {exc}")
             self.refresh()
             return False
@@ -186,6 +199,8 @@ class PlanetApp:
         return True
 
     def set_sun(self, elevation=None, azimuth=None):
+        if self._building:
+            return
         el, az = self._sun
         self._sun = (el if elevation is None else float(elevation), az if azimuth is None else float(azimuth))
         self.scene.set_sun(*self._sun)
@@ -195,6 +210,8 @@ class PlanetApp:
         self.refresh()
 
     def set_exposure(self, value):
+        if self._building:
+            return
         self.scene.settings.exposure = float(value)
         self.refresh()
 

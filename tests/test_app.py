@@ -92,3 +92,32 @@ def test_batch_sweep_dome_and_panorama(tmp_path):
         dome = f.channels()["G"].pixels
     # Dome master: the 180 deg circle is lit, the corners outside it are black.
     assert dome[32, 32] > 0 and dome[0, 0] == 0
+
+
+def test_advanced_mode_sliders_act_on_the_physical_quantities():
+    # Off-screen, the window's logic: in advanced mode the earth-advanced preset shows its Table 1 "(A)"
+    # quantities; doubling the molecular refractivity n - 1 must multiply the Rayleigh scattering coefficient
+    # by about 4 (Eq. 11: beta ~ (n^2 - 1)^2 ~ 4 (n - 1)^2; exactly ((n'^2 - 1) / (n^2 - 1))^2, checked here).
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+    from planetviz.gui import PlanetApp
+    from planetviz.render import Scene
+    scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=(240, 160))
+    try:
+        app = PlanetApp(scene)
+        assert app.load_preset("earth-advanced")
+        app.toggle_mode()
+        assert {"molecular refractivity (n - 1) x", "depolarisation delta", "turbidity T",
+                "Junge exponent v"} <= set(app.sliders)
+        before = np.asarray(scene.atmosphere.rayleigh.scattering_m)
+        n = np.asarray(app._source["rayleigh"]["refractive_index"])
+        label = "molecular refractivity (n - 1) x"
+        put = [row for row in app._advanced_rows() if row[0] == label][0][3]
+        assert app.change_parameter(label, put, 2.0)
+        after = np.asarray(scene.atmosphere.rayleigh.scattering_m)
+        n2 = 1 + 2 * (n - 1)
+        assert np.allclose(after / before, ((n2 ** 2 - 1) / (n ** 2 - 1)) ** 2, rtol=1e-6)
+        assert scene.renderer_in_use == "fallback"             # new tables are being computed
+        scene.wait_for_tables(120)
+        assert scene.renderer_in_use == "tables"
+    finally:
+        scene.close()
