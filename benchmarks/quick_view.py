@@ -87,6 +87,7 @@ def accuracy(presets, plot):
 def frame_times(size, frames):
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     from planetviz.render import Scene
+    from render_timing import frame_ms
     w, h = (int(v) for v in size.split("x"))
     print(f"\n| quick view, {size} | ms per frame (median of {frames}) | vertices |")
     print("|---|---|---|")
@@ -94,14 +95,9 @@ def frame_times(size, frames):
         scene = Scene("earth", off_screen=True, window_size=(w, h), method="fallback", quick_samples=n)
         scene.view_from_ground(latitude=45, heading=90, pitch=5)
         scene.screenshot()
-        times = []
-        for _ in range(frames):
-            t0 = time.perf_counter()
-            scene.ren_win.Render()
-            scene.ren_win.WaitForCompletion()
-            times.append(1e3 * (time.perf_counter() - t0))
+        ms = frame_ms(scene, frames)
         verts = scene.quick.mapper.GetInput().GetNumberOfPoints()
-        print(f"| n = {n}, ground | {np.median(times):.1f} | {verts} |", flush=True)
+        print(f"| n = {n}, ground | {ms:.1f} | {verts} |", flush=True)
         scene.close()
 
 

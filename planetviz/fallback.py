@@ -34,6 +34,18 @@ SAMPLING = {"power": (3.0, 2.0), "equidistant": (1.0, 1.0)}
 TERMS = ("physical", "artistic")
 
 
+def check_settings(samples, density_samples=None, sampling="power", terms="physical"):
+    """(n, m) for valid settings; a ValueError naming the setting and its allowed values otherwise."""
+    if sampling not in SAMPLING:
+        raise ValueError(f"sampling: one of {', '.join(SAMPLING)}, got {sampling!r}")
+    if terms not in TERMS:
+        raise ValueError(f"terms: one of {', '.join(TERMS)}, got {terms!r}")
+    for name, value in (("samples", samples), ("density_samples", density_samples)):
+        if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= 256):
+            raise ValueError(f"{name}: an integer in [1, 256], got {value!r}")
+    return int(samples), int(density_samples or samples)
+
+
 def sample_fractions(n, exponent):
     """Midpoints (a_i + b_i) / 2 and widths b_i - a_i of the intervals [(i / n)^e, ((i + 1) / n)^e], i < n."""
     edges = (np.arange(n + 1) / n) ** exponent
@@ -89,14 +101,7 @@ def fallback_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples
     >>> L.shape
     (1, 3)
     """
-    if sampling not in SAMPLING:
-        raise ValueError(f"sampling: one of {', '.join(SAMPLING)}, got {sampling!r}")
-    if terms not in TERMS:
-        raise ValueError(f"terms: one of {', '.join(TERMS)}, got {terms!r}")
-    for name, value in (("samples", samples), ("density_samples", density_samples)):
-        if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= 256):
-            raise ValueError(f"{name}: an integer in [1, 256], got {value!r}")
-    n, m = int(samples), int(density_samples or samples)
+    n, m = check_settings(samples, density_samples, sampling, terms)
     e_view, e_depth = SAMPLING[sampling]
     c = np.atleast_2d(np.asarray(camera, dtype=float))
     v = np.atleast_2d(np.asarray(view_dir, dtype=float))

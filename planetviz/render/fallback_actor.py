@@ -23,7 +23,7 @@ from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
 from ..color import linear_srgb_matrix
-from ..fallback import SAMPLING, TERMS, _coefficients
+from ..fallback import SAMPLING, _coefficients, check_settings
 from .atmosphere_actor import OUTPUT_MODES, TONE_MAPPINGS, DisplaySettings, _groups_array, _set_uniform
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pad_groups
@@ -100,17 +100,10 @@ class FallbackActor:
 
     def __init__(self, atmosphere, renderer, samples=8, density_samples=None, sampling="power", terms="physical",
                  settings=None):
-        if sampling not in SAMPLING:
-            raise ValueError(f"sampling: one of {', '.join(SAMPLING)}, got {sampling!r}")
-        if terms not in TERMS:
-            raise ValueError(f"terms: one of {', '.join(TERMS)}, got {terms!r}")
-        for name, value in (("samples", samples), ("density_samples", density_samples)):
-            if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= 256):
-                raise ValueError(f"{name}: an integer in [1, 256], got {value!r}")
+        self.samples, self.density_samples = check_settings(samples, density_samples, sampling, terms)
         self.atmosphere = atmosphere
         self.renderer = renderer
         self.settings = settings or DisplaySettings()
-        self.samples, self.density_samples = int(samples), int(density_samples or samples)
         self.sampling, self.terms = sampling, terms
         self.sun_direction = np.array([1.0, 0.0, 0.0])
         self.directions = None                       # fixed directions (points) instead of the adaptive mesh
