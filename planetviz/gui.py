@@ -22,6 +22,7 @@ import time
 import numpy as np
 
 from .atmosphere import AtmosphereError
+from .optics.mie import mie_scattering_turbidity
 from .presets import PRESETS, load_atmosphere, load_dict
 
 PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
@@ -32,6 +33,25 @@ def _scaled(values, factor):
     return [float(v) * factor for v in values]
 
 
+#: Eq. 17 in standard mode: Junge exponent 4 and K = 0.0092 (Table 1's Earth value at 550 nm).
+TURBIDITY_JUNGE, TURBIDITY_K = 4.0, 0.0092
+
+
+def _turbidity_scattering(d, turbidity):
+    return mie_scattering_turbidity(np.asarray(d["wavelengths_nm"]) * 1e-9, turbidity, TURBIDITY_JUNGE, TURBIDITY_K)
+
+
+def _turbidity_of(d, b):
+    """The turbidity whose Eq. 17 scattering matches the first wavelength's beta_M (linear in T - 1)."""
+    return 1.0 + d["mie"]["scattering_m"][0] / _turbidity_scattering(d, 2.0)[0]
+
+
+def _set_turbidity(d, b, turbidity):
+    scat = _turbidity_scattering(d, turbidity)
+    ratio = np.asarray(b["mie"]["extinction_m"]) / np.maximum(np.asarray(b["mie"]["scattering_m"]), 1e-300)
+    d["mie"].update(scattering_m=[float(x) for x in scat], extinction_m=[float(x) for x in scat * ratio])
+
+
 #: Standard-mode sliders: (label with unit, range, getter(dict) -> value, setter(dict, value)).
 STANDARD = [
     ("Rayleigh x (scattering scale)", (0.1, 5.0), lambda d, b: 1.0,
@@ -39,6 +59,7 @@ STANDARD = [
     ("Mie x (scattering and extinction scale)", (0.0, 10.0), lambda d, b: 1.0,
      lambda d, b, v: d["mie"].update(scattering_m=_scaled(b["mie"]["scattering_m"], v),
                                      extinction_m=_scaled(b["mie"]["extinction_m"], v))),
+    ("turbidity T (Eq. 17: Junge 4, K 0.0092)", (1.0, 10.0), _turbidity_of, _set_turbidity),
     ("Rayleigh scale height [km]", (0.5, 50.0), lambda d, b: d["rayleigh"]["profile"]["scale_height_m"] / 1e3,
      lambda d, b, v: d["rayleigh"]["profile"].update(scale_height_m=v * 1e3)),
     ("Mie scale height [km]", (0.1, 20.0), lambda d, b: d["mie"]["profile"]["scale_height_m"] / 1e3,
@@ -113,7 +134,7 @@ class PlanetApp:
         rows = STANDARD if self.mode == "standard" else self._advanced_rows()
         d = self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source
         for i, (label, rng, get, put) in enumerate(rows):
-            y = 0.93 - 0.085 * i
+            y = 0.93 - 0.08 * i
             try:
                 value = float(get(d, self._base))
             except (KeyError, TypeError, IndexError):

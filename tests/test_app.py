@@ -121,3 +121,20 @@ def test_advanced_mode_sliders_act_on_the_physical_quantities():
         assert scene.renderer_in_use == "tables"
     finally:
         scene.close()
+
+
+def test_standard_mode_turbidity_slider_follows_eq_17():
+    # Eq. 17 written out here: beta_M = 0.434 C(T) pi (2 pi / lambda)^(v - 2) K, C(T) = (0.65 T - 0.65) 1e-16,
+    # with the slider's v = 4 and K = 0.0092; extinction keeps the file's extinction/scattering ratio.
+    import copy
+    from planetviz.gui import _set_turbidity, _turbidity_of
+    from planetviz.presets import load_atmosphere
+    d = load_atmosphere("earth").to_dict()
+    base = copy.deepcopy(d)
+    _set_turbidity(d, base, 4.0)
+    lam = np.asarray(d["wavelengths_nm"]) * 1e-9
+    want = 0.434 * (0.65 * 4.0 - 0.65) * 1e-16 * np.pi * (2 * np.pi / lam) ** 2 * 0.0092
+    assert np.allclose(d["mie"]["scattering_m"], want, rtol=1e-12)
+    ratio = np.asarray(base["mie"]["extinction_m"]) / np.asarray(base["mie"]["scattering_m"])
+    assert np.allclose(np.asarray(d["mie"]["extinction_m"]) / want, ratio)
+    assert np.isclose(_turbidity_of(d, base), 4.0)
