@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .geometry import distance_to_ground, distance_to_top_exit
+from .queries import validate_queries
 from .reference.optical_depth import shell_segment
 
 #: Exponents of the sample positions (i / n)^e: the scattering integral, the optical depths.
@@ -103,9 +104,8 @@ def fallback_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples
     """
     n, m = check_settings(samples, density_samples, sampling, terms)
     e_view, e_depth = SAMPLING[sampling]
-    c = np.atleast_2d(np.asarray(camera, dtype=float))
-    v = np.atleast_2d(np.asarray(view_dir, dtype=float))
-    s = np.broadcast_to(np.asarray(sun_dir, dtype=float), c.shape)
+    q = validate_queries(camera, view_dir, sun_dir, atm.bottom_radius_m)
+    c, v, s = q.camera_m, q.view_dir, q.sun_dir
     R, top = atm.bottom_radius_m, atm.top_radius_m
     b_r, b_m, extinction = _coefficients(atm, terms)
 

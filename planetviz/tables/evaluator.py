@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry import ray_sphere
+from ..queries import validate_queries
 from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
 from .lookup import (get_irradiance, get_scattering, get_transmittance,
@@ -36,10 +37,10 @@ def _phased(tables, atm, r, mu, mu_s, nu, ground):
 
 
 def sky_radiance(tables, atm, camera, view_dir, sun_dir):
-    """(radiance (N, W), transmittance (N, W)) for unit view and sun directions."""
-    c = np.atleast_2d(np.asarray(camera, dtype=float))
-    v = np.atleast_2d(np.asarray(view_dir, dtype=float))
-    s = np.broadcast_to(np.asarray(sun_dir, dtype=float), c.shape)
+    """(radiance (N, W), transmittance (N, W)) for cameras (N, 3) on or above the ground and view and sun
+    directions ((N, 3) or (3,), normalised here); bad input raises ValueError naming the array and row."""
+    q = validate_queries(camera, view_dir, sun_dir, tables.bottom)
+    c, v, s = q.camera_m, q.view_dir, q.sun_dir
     n, W = len(c), atm.n_wavelengths
     radiance = np.zeros((n, W))
     trans = np.ones((n, W))

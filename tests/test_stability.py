@@ -1,0 +1,136 @@
+"""Numerical stability under stress (issue 7, first part): generated cameras, views and suns anywhere the API
+accepts them, plus the fixed worst cases, for the table evaluator and the quick-view integrator.
+
+Two hypothesis profiles: the default run draws ``FAST`` examples per property; ``pytest -m slow`` (CI runs it
+too) repeats the properties with ``LONG`` examples. Counts and findings: docs/stability.md.
+"""
+import re
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from planetviz import load_atmosphere
+from planetviz.fallback import fallback_radiance
+from planetviz.tables import QUALITY, precompute
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.tables.lookup import get_transmittance
+
+EARTH = load_atmosphere("earth")
+R, TOP = EARTH.bottom_radius_m, EARTH.top_radius_m
+TABLES = precompute(EARTH, QUALITY["draft"])
+FAST, LONG = 100, 3000
+
+altitudes = st.floats(-3.0, 12.0).map(lambda e: 10.0 ** e)             # 1 mm above the ground to 1e12 m
+unit = st.tuples(*[st.floats(-1.0, 1.0)] * 3).filter(lambda v: np.linalg.norm(v) > 1e-3) \
+    .map(lambda v: np.asarray(v) / np.linalg.norm(v))
+
+
+def _camera(alt, direction):
+    return direction * (R + alt)
+
+
+def _check(radiance, transmittance):
+    assert np.all(np.isfinite(radiance)) and np.all(radiance >= 0), radiance
+    assert np.all(np.isfinite(transmittance)) and np.all((transmittance >= 0) & (transmittance <= 1)), transmittance
+
+
+def _both(cams, views, sun):
+    for f in (lambda: sky_radiance(TABLES, EARTH, cams, views, sun),
+              lambda: fallback_radiance(EARTH, cams, views, sun, samples=6)):
+        yield f()
+
+
+def random_rays(n_examples):
+    @settings(max_examples=n_examples, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+    @given(alt=altitudes, up=unit, view=unit, sun=unit, special=st.sampled_from(["random", "sun", "anti-sun"]))
+    def check(alt, up, view, sun, special):
+        cam = _camera(alt, up)
+        if special == "sun":
+            sun = view
+        elif special == "anti-sun":
+            sun = -view
+        for radiance, transmittance in _both(cam[None], view[None], sun):
+            _check(radiance, transmittance)
+    return check
+
+
+test_random_rays_give_finite_non_negative_radiance = random_rays(FAST)
+test_random_rays_long = pytest.mark.slow(random_rays(LONG))
+
+
+def worst_cases():
+    """Cameras on the ground, 1 mm above it, exactly at the top, just inside and outside it, 1e12 m away; views
+    up, down, along the horizon (tangent to the ground) and tangent to the top; the sun at the zenith, on the
+    horizon, behind the planet, along the view and against it."""
+    ez, ex = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])
+    cams, views, suns = [], [], []
+    for alt in (0.0, 1e-3, 2.0, TOP - R - 1.0, TOP - R, TOP - R + 1.0, 1e7, 1e12):
+        r = R + alt
+        cam = r * ez
+        dip = np.arccos(min(R / r, 1.0))
+        top_dip = np.arccos(min(TOP / r, 1.0)) if r > TOP else 0.0
+        for view in (ez, -ez, np.cos(dip) * ex - np.sin(dip) * ez, np.cos(top_dip) * ex - np.sin(top_dip) * ez, ex):
+            for sun in (ez, ex, -ez, view, -view):
+                cams.append(cam)
+                views.append(view)
+                suns.append(sun)
+    return np.array(cams), np.array(views), np.array(suns)
+
+
+def test_fixed_worst_cases():
+    cams, views, suns = worst_cases()
+    for radiance, transmittance in _both(cams, views, suns):
+        _check(radiance, transmittance)
+
+
+def continuity(n_examples):
+    @settings(max_examples=n_examples, deadline=None)
+    @given(up=unit, view=unit, sun=unit)
+    def check(up, view, sun):
+        # A camera crossing the top of the atmosphere along its view ray, 1 m outside then 1 m inside, sees the
+        # same ray (less 1 m of the thinnest air): relative change under 0.1% (the issue's bound; measured at
+        # most 3.3e-5 over 9855 rays). Found on the first run: comparing cameras 1 m above and below the top with the same
+        # direction moves oblique rays 2 m sideways, a real change of up to 0.2% (low aerosol, 1.2 km scale
+        # height) and of 100% for rays grazing the top; only the camera's crossing is the renderer's business.
+        if up @ view > -0.01:
+            return                                   # a ray that does not enter the atmosphere here
+        entry = up * TOP
+        outside, inside = entry - view, entry + view
+        a, _ = sky_radiance(TABLES, EARTH, np.array([outside, inside]), np.array([view, view]), sun)
+        lit = a[0] > 1e-6
+        assert np.all(np.abs(a[0] - a[1])[lit] <= 1e-3 * a[0][lit]), (a, up @ view)
+    return check
+
+
+test_radiance_is_continuous_across_the_top = continuity(FAST)
+test_radiance_is_continuous_across_the_top_long = pytest.mark.slow(continuity(LONG))
+
+
+@settings(max_examples=FAST, deadline=None)
+@given(alt=st.floats(0.0, 59e3), mu=st.floats(-1.0, 1.0))
+def test_transmittance_never_increases_along_a_ray(alt, mu):
+    # T(x, x + d v) from the tables for growing d, up to where the ray leaves the atmosphere or meets the ground.
+    r = R + alt
+    ground = mu < 0 and r * r * (mu * mu - 1) + R * R >= 0
+    disc = r * r * (mu * mu - 1) + (R if ground else TOP) ** 2
+    end = -r * mu - np.sqrt(max(disc, 0)) if ground else -r * mu + np.sqrt(max(disc, 0))
+    d = np.linspace(0.0, max(end, 0.0), 50)
+    t = get_transmittance(TABLES, np.full(50, r), np.full(50, mu), d, np.full(50, ground))
+    assert np.all((t >= 0) & (t <= 1))
+    assert np.all(np.diff(t, axis=0) <= 1e-6)
+
+
+@pytest.mark.parametrize("camera, view, sun, word", [
+    ([[0, 0, R + 2.0]], [[0, 0, 0.0]], [0, 0, 1.0], "view_dir[0]: zero vector"),
+    ([[0, 0, R + 2.0]], [[np.nan, 0, 1.0]], [0, 0, 1.0], "view_dir[0]: contains NaN"),
+    ([[0, 0, R - 10.0]], [[0, 0, 1.0]], [0, 0, 1.0], "camera_m[0]: 10 m below the ground"),
+    ([[0, 0, R + 2.0], [0, 0, R + 3.0]], [[0, 0, 1.0]] * 3, [0, 0, 1.0], "view_dir: shape (3, 3)"),
+    ([[0, 0, R + 2.0]], [[0, 0, 1.0]], [np.inf, 0, 0], "sun_dir[0]: contains NaN or inf"),
+])
+def test_bad_queries_are_refused_by_name(camera, view, sun, word):
+    for f in (lambda: sky_radiance(TABLES, EARTH, camera, view, sun),
+              lambda: fallback_radiance(EARTH, camera, view, sun)):
+        with pytest.raises(ValueError, match=re.escape(word)):
+            f()
