@@ -134,3 +134,70 @@ def test_bad_queries_are_refused_by_name(camera, view, sun, word):
               lambda: fallback_radiance(EARTH, camera, view, sun)):
         with pytest.raises(ValueError, match=re.escape(word)):
             f()
+
+
+def _edge(name):
+    """An atmosphere at an edge of what the files accept, from the standard Earth."""
+    d = EARTH.to_dict()
+    d["name"] = name
+    W = len(d["wavelengths_nm"])
+    scale = lambda f: [d.update({"rayleigh": {**d["rayleigh"], "scattering_m": [x * f for x in d["rayleigh"]["scattering_m"]]},
+                                 "mie": {**d["mie"], "scattering_m": [x * f for x in d["mie"]["scattering_m"]],
+                                         "extinction_m": [x * f for x in d["mie"]["extinction_m"]]},
+                                 "absorption": [{**a, "extinction_m": [x * f for x in a["extinction_m"]]}
+                                                for a in d["absorption"]]})]
+    if name == "scale heights 10 m":
+        d["rayleigh"]["profile"]["scale_height_m"] = d["mie"]["profile"]["scale_height_m"] = 10.0
+    elif name == "scale heights 1000 km":
+        d["rayleigh"]["profile"]["scale_height_m"] = d["mie"]["profile"]["scale_height_m"] = 1e6
+    elif name == "thickness 1 km":
+        d["top_radius_m"] = d["bottom_radius_m"] + 1e3
+        d["absorption"] = []
+    elif name == "thickness = radius":
+        d["top_radius_m"] = 2 * d["bottom_radius_m"]
+    elif name == "optical depth 1e-8":
+        scale(1e-8 / 0.13)
+    elif name == "optical depth 100":
+        scale(100 / 0.13)
+    elif name in ("g = 0.99", "g = -0.99"):
+        d["mie"]["phase"]["g1"] = [0.99 if name == "g = 0.99" else -0.99] * W
+    elif name in ("albedo 0", "albedo 1"):
+        d["ground_albedo"] = [0.0 if name == "albedo 0" else 1.0] * W
+    elif name == "one wavelength":
+        for key in ("wavelengths_nm", "ground_albedo"):
+            d[key] = d[key][1:2]
+        for part, keys in (("rayleigh", ("scattering_m",)), ("mie", ("scattering_m", "extinction_m"))):
+            for k in keys:
+                d[part][k] = d[part][k][1:2]
+        for k in ("g1", "g2", "alpha"):
+            d["mie"]["phase"][k] = d["mie"]["phase"][k][1:2]
+        d["absorption"] = [{**a, "extinction_m": a["extinction_m"][1:2]} for a in d["absorption"]]
+    elif name in ("planet 100 km", "planet 1e8 m"):
+        radius = 1e5 if name == "planet 100 km" else 1e8
+        d["top_radius_m"] = radius + (d["top_radius_m"] - d["bottom_radius_m"])
+        d["bottom_radius_m"] = radius
+    return type(EARTH).from_dict(d)
+
+
+EDGES = ["scale heights 10 m", "scale heights 1000 km", "thickness 1 km", "thickness = radius", "optical depth 1e-8",
+         "g = 0.99", "g = -0.99", "albedo 0", "albedo 1", "one wavelength", "planet 100 km", "planet 1e8 m",
+         pytest.param("optical depth 100", marks=pytest.mark.slow)]
+
+
+@pytest.mark.parametrize("name", EDGES)
+def test_atmospheres_at_the_edges_give_finite_non_negative_radiance(name):
+    atm = _edge(name)
+    tables = precompute(atm, QUALITY["draft"])
+    r0, thick = atm.bottom_radius_m, atm.top_radius_m - atm.bottom_radius_m
+    cams, views, suns = [], [], []
+    ez = np.array([0.0, 0.0, 1.0])
+    for alt in (1e-3, 0.5 * thick, thick + 1.0, 10 * (r0 + thick)):
+        for view in (ez, np.array([1.0, 0, 0.01]), np.array([1.0, 0, -0.3]), -ez):
+            for sun in (ez, np.array([1.0, 0, 0.0]), np.array([0.3, 0, -1.0])):
+                cams.append((r0 + alt) * ez)
+                views.append(view / np.linalg.norm(view))
+                suns.append(sun / np.linalg.norm(sun))
+    for radiance, transmittance in (sky_radiance(tables, atm, cams, views, suns),
+                                    fallback_radiance(atm, cams, views, suns, samples=6)):
+        _check(radiance, transmittance)
+    assert 1 <= tables.orders <= 64
