@@ -25,7 +25,7 @@ def ray_sphere(origin, direction, radius):
     sq = np.sqrt(np.where(hit, disc, 0.0))
     c = (r - radius) * (r + radius)
     q = -b - np.where(b >= 0.0, sq, -sq)  # q = -(b + sign(b) sq), never a cancellation
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):   # c / q -> inf for a grazing ray from afar
         ta = q
         tb = np.where(q != 0.0, c / q, 0.0)
     t0 = np.where(hit, np.minimum(ta, tb), np.nan)
