@@ -8,7 +8,7 @@ import re
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from planetviz import load_atmosphere
@@ -110,8 +110,15 @@ test_radiance_is_continuous_across_the_top_long = pytest.mark.slow(continuity(LO
 
 @settings(max_examples=FAST, deadline=None)
 @given(alt=st.floats(0.0, 59e3), mu=st.floats(-1.0, 1.0))
+@example(alt=50406.0, mu=-0.125)
 def test_transmittance_never_increases_along_a_ray(alt, mu):
     # T(x, x + d v) from the tables for growing d, up to where the ray leaves the atmosphere or meets the ground.
+    # T is exp(-(tau_near - tau_far)), a difference of two interpolated lookups of the optical-depth table, each
+    # with its own interpolation error: it is not exactly monotone. Found by CI's run of this test (50 km,
+    # mu = -0.125: +9e-6, kept above as an example); measured over 3000 random rays: rises up to 0.4% with the
+    # draft tables used here (0.15% at standard), on rays from 40-60 km looking 2-7 deg down that pass their
+    # lowest point and climb again (a known defect, docs/stability.md). Bound: 1%; swapping the near and far
+    # lookups, or reading the table with the wrong mapping, gives rises of tens of percent.
     r = R + alt
     ground = mu < 0 and r * r * (mu * mu - 1) + R * R >= 0
     disc = r * r * (mu * mu - 1) + (R if ground else TOP) ** 2
@@ -119,7 +126,7 @@ def test_transmittance_never_increases_along_a_ray(alt, mu):
     d = np.linspace(0.0, max(end, 0.0), 50)
     t = get_transmittance(TABLES, np.full(50, r), np.full(50, mu), d, np.full(50, ground))
     assert np.all((t >= 0) & (t <= 1))
-    assert np.all(np.diff(t, axis=0) <= 1e-6)
+    assert np.all(np.diff(t, axis=0) <= 1e-2)
 
 
 @pytest.mark.parametrize("camera, view, sun, word", [
