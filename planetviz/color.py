@@ -54,6 +54,11 @@ def linear_srgb_matrix(atm):
     return colour.XYZ_to_sRGB(xyz, apply_cctf_encoding=False)
 
 
+def linear_srgb(radiance, atm):
+    """Linear sRGB (..., 3), float32, luminance in cd/m^2, of radiance per unit irradiance (..., W)."""
+    return (np.asarray(radiance) @ linear_srgb_matrix(atm)).astype(np.float32)
+
+
 def albedo_matrix(wavelengths_nm):
     """(3, W) matrix A with albedo(lambda) = linear sRGB colour @ A: a colour texture read as a reflectance
     spectrum, piecewise linear through the sRGB primaries' dominant wavelengths (B 465 nm, G 549 nm, R 612 nm)

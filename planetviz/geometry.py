@@ -51,3 +51,25 @@ def distance_to_top_exit(origin, direction, top_radius):
     """Distance from a point inside the top sphere to where the ray leaves it (far root, >= 0)."""
     _, t1 = ray_sphere(origin, direction, top_radius)
     return np.maximum(np.nan_to_num(t1, nan=0.0), 0.0)
+
+
+def local_frame(latitude_deg, longitude_deg):
+    """(up, east, north) unit vectors at a site on the planet."""
+    lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)
+    up = np.array([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)])
+    east = np.array([-np.sin(lon), np.cos(lon), 0.0])
+    north = np.array([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
+    return up, east, north
+
+
+def site_direction(elevation_deg, azimuth_deg, latitude_deg=0.0, longitude_deg=0.0):
+    """Unit vector at elevation and azimuth (from north, through east) seen from a site."""
+    up, east, north = local_frame(latitude_deg, longitude_deg)
+    el, az = np.radians(elevation_deg), np.radians(azimuth_deg)
+    return np.cos(el) * (np.cos(az) * north + np.sin(az) * east) + np.sin(el) * up
+
+
+def site_of(position):
+    """(latitude, longitude) [deg] of the point below a planet-centred position."""
+    x, y, z = np.asarray(position, dtype=float)
+    return float(np.degrees(np.arctan2(z, np.hypot(x, y)))), float(np.degrees(np.arctan2(y, x)))

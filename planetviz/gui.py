@@ -24,6 +24,7 @@ import numpy as np
 from .atmosphere import AtmosphereError
 from .optics.mie import mie_scattering_turbidity
 from .presets import PRESETS, load_atmosphere, load_dict
+from .render.scene import flight_path
 
 PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
 QUALITIES = ("draft", "standard", "high")
@@ -253,19 +254,15 @@ class PlanetApp:
         """Fly straight down from orbit to 1.7 m above the ground (or back up), a frame per step."""
         r = np.linalg.norm(self.scene.camera_location) - self.scene.atmosphere.bottom_radius_m
         down = r > 1e5
-        altitudes = np.geomspace(3 * self.scene.atmosphere.bottom_radius_m, 1.7, frames)
-        for alt in altitudes if down else altitudes[::-1]:
-            pitch = -90.0 + 90.0 * min(1.0, max(0.0, np.log10(1e7 / alt) / 2.0))
-            self.scene.view_from_ground(latitude=30.0, altitude=float(alt), heading=self._sun[1],
-                                        pitch=min(pitch, 5.0))
+        path = flight_path(self.scene.atmosphere.bottom_radius_m, frames)
+        for alt, pitch in path if down else path[::-1]:
+            self.scene.view_from_ground(latitude=30.0, altitude=alt, heading=self._sun[1], pitch=pitch)
             self.scene.set_sun(*self._sun)
             self.refresh()
 
     def cycle_quality(self):
         s = self.scene
-        quality = QUALITIES[(QUALITIES.index(s._quality) + 1) % len(QUALITIES)]
-        s._quality = quality
-        s.set_atmosphere(s.atmosphere, force=True)
+        s.set_quality(QUALITIES[(QUALITIES.index(s.quality) + 1) % len(QUALITIES)])
         self.refresh()
 
     def save_atmosphere(self):
@@ -302,8 +299,7 @@ class PlanetApp:
 
     def toggle_renderer(self):
         method = "fallback" if self.scene.renderer_in_use == "tables" else "tables"
-        self.scene.add_planet(self.scene.atmosphere, quality=self.scene._quality, surface=self.scene._surface,
-                              cache=self.scene._cache, method=method)
+        self.scene.set_method(method)
         self.refresh()
 
     def toggle_mode(self):
@@ -334,7 +330,7 @@ class PlanetApp:
         tables = f"tables {job[0]} {100 * job[1]:.0f}%" if job else \
             (f"tables failed: {s.table_error}" if s.table_error else "tables ready")
         return (f"{s.atmosphere.name} | renderer: {s.renderer_in_use} | {tables} | "
-                f"{s._quality} quality | frame {self._frame_ms:.0f} ms | {self.mode} mode | "
+                f"{s.quality} quality | frame {self._frame_ms:.0f} ms | {self.mode} mode | "
                 f"tone mapping {s.settings.tone_mapping}")
 
     def refresh(self):

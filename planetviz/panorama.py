@@ -8,23 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .geometry import local_frame, site_of
 from .tables.evaluator import sky_radiance
-
-
-def _local_frame(camera):
-    up = np.asarray(camera, dtype=float) / np.linalg.norm(camera)
-    north = np.array([0.0, 0.0, 1.0]) - up[2] * up
-    if np.linalg.norm(north) < 1e-9:                   # at a pole: any horizontal direction is "north"
-        north = np.array([1.0, 0.0, 0.0]) - up[0] * up
-    north /= np.linalg.norm(north)
-    east = np.cross(north, up)
-    return up, east, north
 
 
 def equirectangular_directions(camera, width, height):
     """(height, width, 3) unit directions: longitude = azimuth from north (-180 at the left edge, through east),
     latitude = elevation (+90 at the top row); pixel centres."""
-    up, east, north = _local_frame(camera)
+    up, east, north = local_frame(*site_of(camera))
     az = ((np.arange(width) + 0.5) / width * 2 - 1) * np.pi
     el = (0.5 - (np.arange(height) + 0.5) / height) * np.pi
     az, el = np.meshgrid(az, el)
@@ -36,7 +27,7 @@ def fisheye_directions(camera, size, field_of_view_deg=180.0, heading_deg=0.0):
     """(size, size, 3) unit directions of an equidistant (angular) fisheye looking at the zenith, the dome
     master convention: the radius from the centre is proportional to the zenith angle, ``field_of_view_deg``
     across the circle, ``heading_deg`` at the bottom of the image; outside the circle NaN."""
-    up, east, north = _local_frame(camera)
+    up, east, north = local_frame(*site_of(camera))
     c = (np.arange(size) + 0.5) / size * 2 - 1
     x, y = np.meshgrid(c, -c)
     rho = np.hypot(x, y)

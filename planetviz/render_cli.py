@@ -128,16 +128,12 @@ def run_render(args) -> int:
                 _frame(scene, args, i)
                 bar(i + 1)
         elif args.flight:
-            if args.flight < 2:
-                raise ValueError(f"flight: at least 2 frames, got {args.flight}")
-            top = 3.0 * scene.atmosphere.bottom_radius_m
-            altitudes = np.geomspace(top, 1.7, args.flight)
-            bar = _Bar(len(altitudes), "flight")
-            for i, alt in enumerate(altitudes):
-                # Look down from orbit, level out toward the horizon below 100 km.
-                pitch = -90.0 + 90.0 * min(1.0, max(0.0, np.log10(1e7 / alt) / np.log10(1e7 / 1e5)))
-                scene.view_from_ground(latitude=args.latitude, longitude=args.longitude, altitude=float(alt),
-                                       heading=args.heading, pitch=min(pitch, args.pitch), fov=args.fov or 60.0)
+            from .render.scene import flight_path
+            path = flight_path(scene.atmosphere.bottom_radius_m, args.flight, level_pitch=args.pitch)
+            bar = _Bar(len(path), "flight")
+            for i, (alt, pitch) in enumerate(path):
+                scene.view_from_ground(latitude=args.latitude, longitude=args.longitude, altitude=alt,
+                                       heading=args.heading, pitch=pitch, fov=args.fov or 60.0)
                 scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth,
                               latitude=args.latitude, longitude=args.longitude)
                 _frame(scene, args, i)
@@ -152,11 +148,14 @@ def run_render(args) -> int:
 
 
 def _sky_images(scene, args):
+    from .color import display_colour, linear_srgb
     from .panorama import equirectangular_directions, fisheye_directions, render_directions
     from .render.hdr import write_exr
+    from .render.surface import write_image
     from .tables import QUALITY, TableCache, precompute
     atm = scene.atmosphere
-    tables = precompute(atm, QUALITY[args.quality], cache=TableCache())
+    tables = scene.planet.tables if scene.planet is not None else \
+        precompute(atm, QUALITY[args.quality], cache=TableCache())        # the quick view has none
     cam = scene.camera_location
     jobs = []
     if args.fisheye:
@@ -166,7 +165,7 @@ def _sky_images(scene, args):
         jobs.append((args.panorama, equirectangular_directions(cam, w, h)))
     for path, dirs in jobs:
         radiance = render_directions(tables, atm, cam, dirs, scene.sun_direction)
-        rgb = _linear_srgb(radiance, atm)
+        rgb = linear_srgb(radiance, atm)
         if str(path).lower().endswith(".exr"):
             from .optics.light import star_irradiance
             write_exr(path, rgb, radiance * star_irradiance(atm.star, atm.wavelengths_nm), atm.wavelengths_nm,
@@ -175,26 +174,6 @@ def _sky_images(scene, args):
                        "projection": "fisheye 180 deg, zenith at the centre" if path == args.fisheye
                        else "equirectangular: azimuth from north through east, elevation up"})
         else:
-            _write_png(path, rgb, scene.settings)
+            s = scene.settings
+            write_image(path, np.round(display_colour(rgb, s.exposure, s.tone_mapping) * 255).astype(np.uint8))
         print(f"wrote {path}")
-
-
-def _linear_srgb(radiance, atm):
-    from .color import linear_srgb_matrix
-    return (radiance @ linear_srgb_matrix(atm)).astype(np.float32)
-
-
-def _write_png(path, rgb, settings):
-    from vtkmodules.util.numpy_support import numpy_to_vtk
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-    from .color import display_colour
-    img = np.round(display_colour(rgb, settings.exposure, settings.tone_mapping) * 255).astype(np.uint8)
-    h, w, _ = img.shape
-    data = vtkImageData()
-    data.SetDimensions(w, h, 1)
-    data.GetPointData().SetScalars(numpy_to_vtk(np.ascontiguousarray(img[::-1]).reshape(-1, 3)))
-    writer = vtkPNGWriter()
-    writer.SetFileName(str(path))
-    writer.SetInputData(data)
-    writer.Write()

@@ -10,7 +10,6 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
 from planetviz import load_atmosphere  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
-from planetviz.render.scene import site_direction  # noqa: E402
 
 SIZE = (64, 48)
 

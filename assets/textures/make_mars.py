@@ -36,18 +36,8 @@ def mars_map(width=1024, height=512, seed=2020):
 
 
 def main():
-    from vtkmodules.util.numpy_support import numpy_to_vtk
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-    rgb = mars_map()
-    h, w, _ = rgb.shape
-    image = vtkImageData()
-    image.SetDimensions(w, h, 1)
-    image.GetPointData().SetScalars(numpy_to_vtk(np.ascontiguousarray(rgb[::-1]).reshape(-1, 3)))
-    writer = vtkPNGWriter()
-    writer.SetFileName(str(Path(__file__).with_name("mars.png")))
-    writer.SetInputData(image)
-    writer.Write()
+    from planetviz.render.surface import write_image
+    write_image(Path(__file__).with_name("mars.png"), mars_map())
 
 
 if __name__ == "__main__":

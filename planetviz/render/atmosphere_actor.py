@@ -88,29 +88,18 @@ class AtmosphereActor:
     # ------------------------------------------------------------------------------------------ uniforms
     def _static_uniforms(self):
         atm, t = self.atmosphere, self.tables
-        W = atm.n_wavelengths
-        G = group_count(W)
-        rgb = linear_srgb_matrix(atm)                                      # (W, 3)
-        rgb_w = np.zeros((MAX_GROUPS, 3, 4), np.float32)
-        rgb_w[:G] = np.moveaxis(pad_groups(rgb.T), 0, 1)                   # (G, 3, 4)
-        alb = albedo_matrix(atm.wavelengths_nm)                            # (3, W)
+        G = group_count(atm.n_wavelengths)
         alb_w = np.zeros((MAX_GROUPS, 3, 4), np.float32)
-        alb_w[:G] = np.moveaxis(pad_groups(alb), 0, 1)
-        per_group = lambda values: _groups_array(pad_groups(values))
+        alb_w[:G] = np.moveaxis(pad_groups(albedo_matrix(atm.wavelengths_nm)), 0, 1)   # (3, W) -> (G, 3, 4)
         n_r_t, n_mu_t = t.optical_depth.shape[:2]
         n_r_e, n_mu_s_e = t.irradiance.shape[:2]
         s1, sm = t.rayleigh.shape, t.multiple.shape
         return {
-            "bottom_radius": ("f", t.bottom), "top_radius": ("f", t.top), "mu_s_min": ("f", MU_S_MIN),
-            "group_count": ("i", G),
+            **atmosphere_uniforms(atm), "mu_s_min": ("f", MU_S_MIN),
             "transmittance_size": ("2f", (n_mu_t, n_r_t)), "irradiance_size": ("2f", (n_mu_s_e, n_r_e)),
             "single_size": ("4f", (s1[2], s1[3], s1[1], s1[0])),
             "multiple_size": ("4f", (sm[2], sm[3], sm[1], sm[0])),
-            "rayleigh_anisotropy": ("f", 1.0 if atm.rayleigh.phase == "rayleigh" else 0.932),
-            "mie_g1": ("4fv", per_group(atm.mie.g1)), "mie_g2": ("4fv", per_group(atm.mie.g2)),
-            "mie_alpha": ("4fv", per_group(atm.mie.alpha)),
-            "rgb_weights": ("4fv", rgb_w.reshape(-1, 4)), "albedo_weights": ("4fv", alb_w.reshape(-1, 4)),
-            "surface_albedo": ("4fv", per_group(atm.ground_albedo)),
+            "albedo_weights": ("4fv", alb_w.reshape(-1, 4)),
             "use_surface_texture": ("i", int(self.surface is not None)),
         }
 
@@ -161,6 +150,24 @@ class AtmosphereActor:
         for tex in (self._textures or {}).values():
             tex.ReleaseGraphicsResources(self.renderer.GetRenderWindow())
         self._textures = None
+
+
+def atmosphere_uniforms(atm):
+    """The uniforms both actors take from the atmosphere: common.glsl's (radii, groups, phases), the ground's
+    albedo and the spectral -> linear sRGB weights (``rgb_weights``)."""
+    G = group_count(atm.n_wavelengths)
+    rgb_w = np.zeros((MAX_GROUPS, 3, 4), np.float32)
+    rgb_w[:G] = np.moveaxis(pad_groups(linear_srgb_matrix(atm).T), 0, 1)          # (W, 3) -> (G, 3, 4)
+    per_group = lambda values: _groups_array(pad_groups(values))
+    return {
+        "bottom_radius": ("f", atm.bottom_radius_m), "top_radius": ("f", atm.top_radius_m),
+        "group_count": ("i", G),
+        "rayleigh_anisotropy": ("f", 1.0 if atm.rayleigh.phase == "rayleigh" else 0.932),
+        "mie_g1": ("4fv", per_group(atm.mie.g1)), "mie_g2": ("4fv", per_group(atm.mie.g2)),
+        "mie_alpha": ("4fv", per_group(atm.mie.alpha)),
+        "surface_albedo": ("4fv", per_group(atm.ground_albedo)),
+        "rgb_weights": ("4fv", rgb_w.reshape(-1, 4)),
+    }
 
 
 def camera_uniforms(renderer):

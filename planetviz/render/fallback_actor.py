@@ -22,9 +22,9 @@ from vtkmodules.vtkCommonCore import VTK_OBJECT, vtkCommand, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
-from ..color import linear_srgb_matrix
 from ..fallback import SAMPLING, _coefficients, check_settings
-from .atmosphere_actor import OUTPUT_MODES, TONE_MAPPINGS, DisplaySettings, _groups_array, _set_uniform
+from .atmosphere_actor import (OUTPUT_MODES, TONE_MAPPINGS, DisplaySettings, _groups_array, _set_uniform,
+                               atmosphere_uniforms)
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pad_groups
 
@@ -149,16 +149,10 @@ class FallbackActor:
             else:
                 prof[k] = (2.0, atm.thickness_m, 0.0)
                 table[k] = profile.density(np.linspace(0.0, atm.thickness_m, PROFILE_TABLE_SIZE))
-        rgb_w = np.zeros((MAX_GROUPS, 3, 4), np.float32)
-        rgb_w[:G] = np.moveaxis(pad_groups(linear_srgb_matrix(atm).T), 0, 1)
         per_group = lambda values: _groups_array(pad_groups(values))
         e_view, e_depth = SAMPLING[self.sampling]
-        uniforms = {
-            "bottom_radius": ("f", atm.bottom_radius_m), "top_radius": ("f", atm.top_radius_m),
-            "group_count": ("i", G),
-            "rayleigh_anisotropy": ("f", 1.0 if atm.rayleigh.phase == "rayleigh" else 0.932),
-            "mie_g1": ("4fv", per_group(atm.mie.g1)), "mie_g2": ("4fv", per_group(atm.mie.g2)),
-            "mie_alpha": ("4fv", per_group(atm.mie.alpha)),
+        return {
+            **atmosphere_uniforms(atm),
             "view_samples": ("i", self.samples), "density_samples": ("i", self.density_samples),
             "view_exponent": ("f", e_view), "density_exponent": ("f", e_depth),
             "rayleigh_scattering": ("4fv", per_group(b_r)), "mie_scattering": ("4fv", per_group(b_m)),
@@ -166,10 +160,7 @@ class FallbackActor:
             "component_extinction": ("4fv", ext.reshape(-1, 4)),
             "component_profile": ("3fv", prof), "component_table": ("1fv", table.ravel()),
             "artistic_terms": ("i", int(self.terms == "artistic")),
-            "surface_albedo": ("4fv", per_group(atm.ground_albedo)),
-            "rgb_weights": ("4fv", rgb_w.reshape(-1, 4)),
         }
-        return uniforms
 
     def _update_mesh(self, caller=None, event=None):
         cam = np.array(self.renderer.GetActiveCamera().GetPosition())

@@ -13,8 +13,9 @@ import numpy as np
 import pyvista as pv
 
 from ..atmosphere import Atmosphere
+from ..geometry import local_frame, site_direction
 from ..presets import load_atmosphere
-from ..color import linear_srgb_matrix
+from ..color import linear_srgb
 from ..optics.light import star_irradiance
 from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.precompute import QUALITY, precompute
@@ -24,20 +25,15 @@ from .hdr import render_spectral, write_exr
 from .surface import surface_texture
 
 
-def local_frame(latitude_deg, longitude_deg):
-    """(up, east, north) unit vectors at a site on the planet."""
-    lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)
-    up = np.array([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)])
-    east = np.array([-np.sin(lon), np.cos(lon), 0.0])
-    north = np.array([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
-    return up, east, north
-
-
-def site_direction(elevation_deg, azimuth_deg, latitude_deg=0.0, longitude_deg=0.0):
-    """Unit vector at elevation and azimuth (from north, through east) seen from a site."""
-    up, east, north = local_frame(latitude_deg, longitude_deg)
-    el, az = np.radians(elevation_deg), np.radians(azimuth_deg)
-    return np.cos(el) * (np.cos(az) * north + np.sin(az) * east) + np.sin(el) * up
+def flight_path(bottom_radius, frames, level_pitch=5.0):
+    """[(altitude [m], pitch [deg])] of a flight straight down from 3 planet radii to 1.7 m above the ground:
+    altitudes evenly spaced in the logarithm, looking straight down from orbit and levelling out to
+    ``level_pitch`` below 100 km."""
+    if frames < 2:
+        raise ValueError(f"flight: at least 2 frames, got {frames}")
+    altitudes = np.geomspace(3.0 * bottom_radius, 1.7, frames)
+    pitch = -90.0 + 90.0 * np.clip(np.log10(1e7 / altitudes) / 2.0, 0.0, 1.0)
+    return [(float(a), float(min(p, level_pitch))) for a, p in zip(altitudes, pitch)]
 
 
 @dataclass
@@ -132,6 +128,23 @@ class Scene(pv.Plotter):
             self._show_quick()
         self._method = method
         return self.planet if method == "tables" else self.quick
+
+    @property
+    def quality(self):
+        """The table quality: ``"draft"``, ``"standard"`` or ``"high"``."""
+        return self._quality
+
+    def set_quality(self, quality):
+        """Change the table quality (new tables in the background, the quick view meanwhile)."""
+        if quality not in QUALITY:
+            raise ValueError(f"quality: one of {', '.join(QUALITY)}, got {quality!r}")
+        self._quality = quality
+        self.set_atmosphere(self._atmosphere, force=True)
+
+    def set_method(self, method):
+        """Show the tables (``"tables"``) or the quick view (``"fallback"``) of the current planet."""
+        return self.add_planet(self._atmosphere, quality=self._quality, surface=self._surface, cache=self._cache,
+                               method=method)
 
     def set_atmosphere(self, atmosphere, wait=False, force=False):
         """Change the atmosphere, keeping the view. With table rendering, a change that needs new tables shows
@@ -326,7 +339,7 @@ class Scene(pv.Plotter):
         atm = self.atmosphere
         radiance = render_spectral(self.active_actor, self.ren_win)
         spectral = radiance * star_irradiance(atm.star, atm.wavelengths_nm).astype(np.float32)
-        rgb = (radiance @ linear_srgb_matrix(atm).astype(np.float32)).astype(np.float32)
+        rgb = linear_srgb(radiance, atm)
         hdr = HDRImage(radiance, spectral, rgb, tuple(atm.wavelengths_nm))
         if path is not None:
             cam = self.renderer.GetActiveCamera()

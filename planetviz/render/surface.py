@@ -31,6 +31,21 @@ def read_image(path):
     return np.ascontiguousarray(data[::-1, :, :3])
 
 
+def write_image(path, rgb):
+    """Write an (h, w, 3) uint8 image, top row first, as PNG."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    h, w, _ = rgb.shape
+    image = vtkImageData()
+    image.SetDimensions(w, h, 1)
+    image.GetPointData().SetScalars(numpy_to_vtk(np.ascontiguousarray(rgb[::-1]).reshape(-1, 3)))
+    writer = vtkPNGWriter()
+    writer.SetFileName(str(path))
+    writer.SetInputData(image)
+    writer.Write()
+
+
 def surface_texture(atm):
     """The colour map of the atmosphere's planet, or None (uniform ground albedo) when there is none."""
     for prefix, name in PLANET_TEXTURES.items():
