@@ -175,7 +175,7 @@ THICK_LOSES_ENERGY = pytest.mark.xfail(strict=True, reason=(
 
 
 MARS_PEAK = pytest.mark.xfail(strict=True, reason=(
-    "known defect (issue 3 note, docs/tables.md): Mars at standard quality is 8% RMS off the reference on the "
+    "known defect (issue 3 note, docs/tables.md): Mars at standard quality is 8.8% RMS off the reference on the "
     "benchmark, and on these 12 rays a horizontal view from 10 km reads +23% at 550 nm (Table 1's g = 0.89 "
     "lobe); the larger error under that lobe (3.3x at order 2) was fixed by factoring the twice-scattered "
     "lobe out of the multiple-scattering tables; the rest is not isolated"))
