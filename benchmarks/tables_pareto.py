@@ -145,6 +145,8 @@ def main():
     ap.add_argument("--paths", type=int, default=3000)
     ap.add_argument("--twilight-paths", type=int, default=12000)
     ap.add_argument("--plot", default=None, help="PNG of time against daylight error, Pareto front marked")
+    ap.add_argument("--max-stderr", type=float, default=None,
+                    help="only rays the reference resolves to this relative standard error (e.g. 0.02)")
     args = ap.parse_args()
     print("| atmosphere | configuration | precompute [s] | orders | MB | daylight RMS | daylight p95 | "
           "twilight RMS | twilight p95 | noise floor (day / twilight) |")
@@ -156,6 +158,8 @@ def main():
         ref, stderr = reference(name, atm, queries, args.paths, args.twilight_paths)
         el = queries[3][:, None]
         ok = ref > 1e-5
+        if args.max_stderr is not None:
+            ok &= stderr / np.maximum(ref, 1e-30) < args.max_stderr
         day, dusk = ok & (el >= 2), ok & (el < 2)
         rows = []
         for label, sizes in configurations(args.sweep):
