@@ -8,7 +8,8 @@ colour-science: what the stripped VTK bundle of ../shared/notes/gpu-timing.md of
 ``run`` builds a window, the same ``AtmosphereActor`` the application uses, and times, per size: a plain
 sphere with VTK's default shading filling the same part of the frame (the frame floor of this GPU, as the
 notes recommend: compare ratios, not absolute figures), then the atmosphere from orbit, from the ground and
-from 1e9 m (the planet a few pixels wide), with 32-bit and with 16-bit float tables; then the quick view
+from 1e9 m (the planet a few pixels wide), per pixel with 32-bit and with 16-bit float tables and per vertex
+(``Scene(shading="vertex")``); then the quick view
 (Keller and Bohn per vertex, no tables) from the ground with 4, 8 and 16 points per path. Median ms per frame,
 ``WaitForCompletion`` after each frame, after 5 warm-up frames.
 """
@@ -29,12 +30,12 @@ TABLES = ("optical_depth", "irradiance", "rayleigh", "mie", "multiple", "multipl
 
 def prepare(path):
     from planetviz import load_atmosphere
-    from planetviz.render.atmosphere_actor import AtmosphereActor
+    from planetviz.render.atmosphere_actor import TableTextures
     from planetviz.tables import QUALITY, TableCache, precompute
     atm = load_atmosphere("earth")
     tables = precompute(atm, QUALITY["standard"], cache=TableCache())
     from planetviz.render.fallback_actor import FallbackActor
-    static = AtmosphereActor._static_uniforms(SimpleNamespace(atmosphere=atm, tables=tables, surface=None))
+    static = TableTextures(atm, tables).static_uniforms()
     static = {k: (kind, np.asarray(v).tolist()) for k, (kind, v) in static.items()}
     quick = {}
     for n in (4, 8, 16):
@@ -47,18 +48,21 @@ def prepare(path):
 
 
 class _PreparedActor:
-    """An AtmosphereActor whose constant uniforms come from the prepared file."""
+    """An AtmosphereActor (``shading="pixel"``) or VertexAtmosphereActor (``"vertex"``) whose constant uniforms
+    come from the prepared file."""
 
-    def __new__(cls, data, renderer, half_float):
+    def __new__(cls, data, renderer, half_float, shading="pixel"):
         from planetviz.render.atmosphere_actor import AtmosphereActor
+        from planetviz.render.vertex_actor import VertexAtmosphereActor
 
-        class Prepared(AtmosphereActor):
+        class Prepared(AtmosphereActor if shading == "pixel" else VertexAtmosphereActor):
             def _static_uniforms(self):
                 return {k: (kind, v) for k, (kind, v) in json.loads(str(data["static"])).items()}
 
         tables = SimpleNamespace(bottom=float(data["bottom"]), top=float(data["top"]),
                                  **{name: data[name] for name in TABLES})
-        return Prepared(None, tables, renderer, half_float_tables=half_float)
+        atm = SimpleNamespace(bottom_radius_m=float(data["bottom"]), top_radius_m=float(data["top"]))
+        return Prepared(atm, tables, renderer, half_float_tables=half_float)
 
 
 class _PreparedQuick:
@@ -106,8 +110,10 @@ def run(path, sizes, frames):
     views = {"orbit, 4 radii": ((4 * R, 0, 0), (0, 0, 0), (0, 0, 1)),
              "ground, horizon": ((R + 2.0, 0, 0), (R + 2.0, 1e4, 1e3), (1, 0, 0)),
              "1e9 m": ((1e9, 0, 0), (0, 0, 0), (0, 0, 1))}
-    print("| size | plain sphere (4 radii) | " + " | ".join(f"{v}, float32 | {v}, float16" for v in views) + " |")
-    print("|---" * (2 + 2 * len(views)) + "|")
+    variants = (("pixel", False), ("pixel", True), ("vertex", False))
+    print("| size | plain sphere (4 radii) | " + " | ".join(f"{v}, per pixel | {v}, per pixel, float16 tables | "
+                                                         f"{v}, per vertex" for v in views) + " |")
+    print("|---" * (2 + len(variants) * len(views)) + "|")
     quick_rows = []
     for size in sizes:
         w, h = (int(v) for v in size.split("x"))
@@ -132,16 +138,16 @@ def run(path, sizes, frames):
         row.append(frame_ms(window, frames))
         renderer.RemoveActor(plain)
         timings = {}
-        for half in (False, True):
-            actor = _PreparedActor(data, renderer, half)
+        for shading, half in variants:
+            actor = _PreparedActor(data, renderer, half, shading)
             actor.sun_direction = np.array([0.6, 0.3, 0.74])
             renderer.AddActor(actor.actor)
             for name, view in views.items():
                 set_camera(renderer, *view)
-                timings[name, half] = frame_ms(window, frames)
+                timings[name, shading, half] = frame_ms(window, frames)
             renderer.RemoveActor(actor.actor)
             actor.release()
-        row += [timings[name, half] for name in views for half in (False, True)]
+        row += [timings[name, shading, half] for name in views for shading, half in variants]
         print("| " + " | ".join([row[0]] + [f"{v:.2f}" for v in row[1:]]) + " |", flush=True)
         for n in (4, 8, 16):
             quick = _PreparedQuick(data, renderer, n)

@@ -10,7 +10,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 from planetviz import load_atmosphere  # noqa: E402
 from planetviz.fallback import fallback_radiance  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
-from planetviz.render.fallback_actor import direction_mesh  # noqa: E402
+from planetviz.render.direction_mesh import direction_mesh  # noqa: E402
 
 SIZE = (64, 48)
 

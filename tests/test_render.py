@@ -176,7 +176,7 @@ def test_tables_are_uploaded_as_32_bit_float_textures(earth):
     # 16-bit float tables flicker and band (2^-11 steps); every table texture must stay float32.
     from vtkmodules.vtkCommonCore import VTK_FLOAT
     earth.render()
-    textures = earth.planet._textures
+    textures = earth.planet.textures._textures
     assert textures is not None
     for name, tex in textures.items():
         if name != "surface_texture":

@@ -3,9 +3,11 @@
 :class:`Scene` (a ``pyvista.Plotter``) is the entry point; :class:`AtmosphereActor` is the plain-VTK core
 (importable without PyVista, e.g. in the GPU timing bundle).
 """
-from .atmosphere_actor import AtmosphereActor, DisplaySettings
+from .atmosphere_actor import AtmosphereActor
+from .uniforms import DisplaySettings
+from .vertex_actor import VertexAtmosphereActor
 
-__all__ = ["AtmosphereActor", "DisplaySettings", "HDRImage", "Scene"]
+__all__ = ["AtmosphereActor", "DisplaySettings", "HDRImage", "Scene", "VertexAtmosphereActor"]
 
 
 def __getattr__(name):

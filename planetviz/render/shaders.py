@@ -17,8 +17,3 @@ def load_shader(name: str) -> str:
 def shader_code(*names: str) -> str:
     """The files ``names`` of ``shaders/`` joined in order (each declares what the later ones use)."""
     return "\n".join(load_shader(name) for name in names)
-
-
-def fragment_code() -> str:
-    """Declarations and functions inserted into the table-based atmosphere actor's fragment shader."""
-    return shader_code("common.glsl", "atmosphere_functions.glsl", "display.glsl", "atmosphere_fragment.glsl")

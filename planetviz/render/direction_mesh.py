@@ -1,0 +1,211 @@
+"""The adaptive sphere of view directions around the camera, and the base of the actors that evaluate a model at
+its vertices (the quick view, shaders/fallback_vertex.glsl, and the per-vertex table renderer,
+shaders/atmosphere_vertex.glsl).
+
+The mesh is a sphere of directions centred on the camera (drawn at mid-depth: at its true distance a 16-bit
+depth buffer, as in the float read-back, rounds it onto the far plane and drops fragments), rebuilt (in NumPy, a
+few milliseconds) whenever the camera or the sun moves: rings of constant angle from the nadir, dense just inside
+and outside the planet's limb (the horizon seen from the ground) with a pair of rings straddling it, so the
+horizon's step in brightness is sharp; and extra rings and sectors around the sun, where the forward-scattering
+peak needs them (the paper's "adaptive dome tessellated around the sun").
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+from vtkmodules.vtkCommonCore import VTK_OBJECT, vtkCommand, vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+from vtkmodules.vtkRenderingCore import vtkActor, vtkAssembly, vtkPolyDataMapper
+
+from .uniforms import camera_uniforms, set_uniform
+
+#: Degrees around the sun and around the limb where the mesh is refined.
+SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
+
+
+def _ring_angles(limb, top_limb, rings):
+    """Angles from the nadir [rad] of the rings: dense toward the limb from both sides, two rings 1e-4 rad
+    either side of it, and the top of the atmosphere's limb seen from space."""
+    k = np.arange(1, rings + 1) / (rings + 1)
+    inside = limb * (1 - (1 - k) ** 2)
+    outside = limb + (math.pi - limb) * k ** 2
+    extra = [limb - 1e-4, limb + 1e-4, 0.0, math.pi]
+    if top_limb is not None:
+        extra += [top_limb - 1e-3, top_limb, top_limb + 1e-3]
+    return np.unique(np.clip(np.concatenate([inside, outside, extra]), 0.0, math.pi))
+
+
+def direction_mesh(camera, sun, bottom, top, rings=40, sectors=72):
+    """(unit directions (n, 3), triangles (m, 3)) of the adaptive sphere of directions around ``camera``."""
+    camera = np.asarray(camera, dtype=float)
+    r = np.linalg.norm(camera)
+    down = -camera / r
+    limb = math.asin(min(bottom / r, 1.0)) if r > bottom else math.pi / 2
+    top_limb = math.asin(top / r) if r > top else None
+    theta = _ring_angles(limb, top_limb, rings)
+    # Azimuth about the nadir axis, zero toward the sun's azimuth.
+    e1 = np.asarray(sun, dtype=float) - np.dot(sun, down) * down
+    if np.linalg.norm(e1) < 1e-9:
+        e1 = np.cross(down, [1.0, 0.0, 0.0] if abs(down[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(down, e1)
+    theta_sun = math.acos(np.clip(np.dot(sun, down), -1.0, 1.0))
+    refine = np.radians(SUN_REFINEMENT_DEG)
+    theta = np.unique(np.clip(np.concatenate([theta, theta_sun + refine, theta_sun - refine, [theta_sun]]),
+                              0.0, math.pi))
+    ring_radius = max(math.sin(theta_sun), 1e-3)
+    phi = np.concatenate([np.linspace(-math.pi, math.pi, sectors, endpoint=False),
+                          np.clip(refine / ring_radius, 0, math.pi), -np.clip(refine / ring_radius, 0, math.pi), [0.0]])
+    phi = np.unique(np.mod(phi + math.pi, 2 * math.pi) - math.pi)
+    st, ct = np.sin(theta)[:, None], np.cos(theta)[:, None]
+    dirs = (ct[..., None] * down + st[..., None] * (np.cos(phi)[None, :, None] * e1 + np.sin(phi)[None, :, None] * e2))
+    n_t, n_p = len(theta), len(phi)
+    i, j = np.meshgrid(np.arange(n_t - 1), np.arange(n_p), indexing="ij")
+    a, b = i * n_p + j, i * n_p + (j + 1) % n_p
+    c, d = a + n_p, b + n_p
+    tris = np.concatenate([np.stack([a, b, d], -1).reshape(-1, 3), np.stack([a, d, c], -1).reshape(-1, 3)])
+    return dirs.reshape(-1, 3), tris
+
+
+def in_view(dirs, tris, forward, right, up):
+    """(m,) bool: the triangles of a direction mesh not wholly outside one side of the view frustum (``right``
+    and ``up`` scaled by the tangents of the half fields of view, as in :func:`camera_uniforms`). The sides are
+    planes through the camera, so a flat triangle with its three vertices beyond one of them is beyond it whole."""
+    forward = np.asarray(forward, dtype=float)
+    keep = np.ones(len(tris), bool)
+    for side in (right, -np.asarray(right), up, -np.asarray(up)):
+        side = np.asarray(side, dtype=float)
+        normal = side / np.dot(side, side) - forward       # d . normal > 0: beyond this side
+        keep &= ~np.all((dirs @ normal)[tris] > 0.0, axis=1)
+    return keep
+
+
+def may_see_ground(dirs, tris, camera, bottom):
+    """(m,) bool: the triangles of the direction mesh around ``camera`` that may contain rays to the ground: a
+    vertex inside the cone of the planet's limb, or within the largest distance [rad] by which a triangle's edge
+    between two vertices outside the cone can dip inside it (the edges are great-circle arcs, the cone's edge a
+    small circle), plus 1e-3 rad."""
+    camera = np.asarray(camera, dtype=float)
+    r = np.linalg.norm(camera)
+    if r <= bottom:
+        return np.ones(len(tris), bool)
+    limb = math.asin(bottom / r)
+    theta = np.arccos(np.clip(dirs @ (-camera / r), -1.0, 1.0))
+    # Longest edge of each triangle as half an azimuthal span on the limb's circle, then the dip of an arc of that
+    # span: tan(theta_mid) = tan(limb) cos(half span).
+    chord = np.max(np.linalg.norm(dirs[tris] - dirs[np.roll(tris, 1, axis=1)], axis=-1), axis=1)
+    half = np.arcsin(np.clip(chord / (2 * math.sin(limb)), 0.0, 1.0))
+    dip = limb - np.arctan(math.tan(min(limb, math.pi / 2 - 1e-9)) * np.cos(half))
+    return np.min(theta[tris], axis=1) <= limb + dip + 1e-3
+
+
+def _polydata(points, cells, kind):
+    poly = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=True))
+    poly.SetPoints(pts)
+    offsets = np.arange(len(cells) + 1, dtype=np.int64) * cells.shape[1]
+    arr = vtkCellArray()
+    arr.SetData(numpy_to_vtkIdTypeArray(offsets, deep=True),
+                numpy_to_vtkIdTypeArray(np.ascontiguousarray(cells, dtype=np.int64).ravel(), deep=True))
+    (poly.SetPolys if kind == "polys" else poly.SetVerts)(arr)
+    return poly
+
+
+class DirectionMeshActor:
+    """A VTK actor drawing the direction mesh around the renderer's active camera, its vertex shader calling
+    ``vertex_call`` on each vertex position (``vertex_code`` declares it) and its fragment shader writing
+    ``fragment_call`` (declared by ``fragment_code``).
+
+    ``split_at_limb``: draw the triangles that may contain rays to the ground and the others (sky only) as two
+    parts of a ``vtkAssembly``, each with its own shader program; ``fragment_code`` then sees the constant
+    ``sky_part`` (true in the second), so the sky's fragments do not pay for the ground's code (a software
+    renderer runs both sides of a branch). Subclasses give :meth:`uniforms` (set for every draw) and may bind
+    textures in :meth:`bind`. ``directions``: fixed unit directions (n, 3) drawn as points instead of the
+    adaptive mesh (for tests that need one vertex per pixel)."""
+
+    def __init__(self, atmosphere, renderer, vertex_code, vertex_call, fragment_code, fragment_call,
+                 split_at_limb=False):
+        self.atmosphere = atmosphere
+        self.renderer = renderer
+        self.sun_direction = np.array([1.0, 0.0, 0.0])
+        self.directions = None
+        self.split_at_limb = split_at_limb
+        self._mesh_key = None
+        self.mappers, actors = [], []
+        for prefix in (("const bool sky_part = false;\n", "const bool sky_part = true;\n") if split_at_limb
+                       else ("",)):
+            mapper = vtkPolyDataMapper()
+            mapper.SetVBOShiftScaleMethod(0)
+            actor = vtkActor()
+            actor.SetMapper(mapper)
+            actor.GetProperty().SetPointSize(1)
+            sp = actor.GetShaderProperty()
+            sp.AddVertexShaderReplacement("//VTK::PositionVC::Dec", True,
+                                          "//VTK::PositionVC::Dec\n" + vertex_code, False)
+            sp.AddVertexShaderReplacement("//VTK::PositionVC::Impl", True,
+                                          f"//VTK::PositionVC::Impl\n  {vertex_call}(vertexMC.xyz);\n"
+                                          "  gl_Position.z = 0.0;  // mid-depth: no far-plane or depth-format "
+                                          "quantisation\n", False)
+            sp.AddFragmentShaderReplacement("//VTK::Light::Dec", True, prefix + fragment_code, False)
+            sp.AddFragmentShaderReplacement("//VTK::Light::Impl", True, f"gl_FragData[0] = {fragment_call}();\n",
+                                            False)
+            mapper.AddObserver(vtkCommand.UpdateShaderEvent, self._update_shader)
+            self.mappers.append(mapper)
+            actors.append(actor)
+        self.mapper = self.mappers[0]
+        if split_at_limb:
+            self.actor = vtkAssembly()
+            for actor in actors:
+                self.actor.AddPart(actor)
+        else:
+            self.actor = actors[0]
+        renderer.AddObserver(vtkCommand.StartEvent, self._update_mesh)
+
+    def uniforms(self):
+        """{name: (kind, value)} of the uniforms to set for the next draw."""
+        raise NotImplementedError
+
+    def bind(self, program):
+        """Activate textures and set their sampler uniforms (none here)."""
+
+    def _update_mesh(self, caller=None, event=None):
+        camera = self.renderer.GetActiveCamera()
+        cam = np.array(camera.GetPosition())
+        view = camera_uniforms(self.renderer)
+        key = (tuple(cam), tuple(self.sun_direction), None if self.directions is None else id(self.directions),
+               tuple(np.concatenate([view[name][1] for name in ("camera_forward", "camera_right", "camera_up")])))
+        if key == self._mesh_key:
+            return
+        self._mesh_key = key
+        distance = max(1e6, 1e-2 * np.linalg.norm(cam))
+        if self.directions is not None:
+            dirs = self.directions
+            parts = [_polydata(cam + distance * dirs, np.arange(len(dirs))[:, None], "verts")]
+        else:
+            bottom = self.atmosphere.bottom_radius_m
+            dirs, tris = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m)
+            tris = tris[in_view(dirs, tris, *(view[name][1] for name in ("camera_forward", "camera_right",
+                                                                          "camera_up")))]
+            if self.split_at_limb:
+                ground = may_see_ground(dirs, tris, cam, bottom)
+                parts = [_polydata(cam + distance * dirs, tris[ground], "polys"),
+                         _polydata(cam + distance * dirs, tris[~ground], "polys")]
+            else:
+                parts = [_polydata(cam + distance * dirs, tris, "polys")]
+        empty = _polydata(np.zeros((0, 3)), np.zeros((0, 3), np.int64), "polys")
+        for k, mapper in enumerate(self.mappers):
+            mapper.SetInputData(parts[k] if k < len(parts) else empty)
+        self.renderer.ResetCameraClippingRange()
+
+    @calldata_type(VTK_OBJECT)
+    def _update_shader(self, caller, event, program=None):
+        if program is None:
+            return
+        self.bind(program)
+        for name, (kind, value) in self.uniforms().items():
+            set_uniform(program, name, kind, value)

@@ -1,0 +1,116 @@
+"""Uniforms shared by the actors: display settings, the atmosphere's constants, the camera (in double precision)
+and the typed setter."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..color import linear_srgb_matrix
+from .textures import MAX_GROUPS, group_count, pad_groups
+
+TONE_MAPPINGS = {"exponential": 0, "filmic": 1, "clamp": 2}
+OUTPUT_MODES = {"display": 0, "spectral": 1, "linear_srgb": 2}
+
+#: Angular radius of the Sun seen from the Earth [deg].
+SUN_ANGULAR_RADIUS_DEG = 0.2666
+
+
+@dataclass
+class DisplaySettings:
+    """What the fragment shader writes: ``output_mode`` (display / spectral / linear_srgb), the three wavelengths
+    of the spectral mode (``output_triple`` k: wavelengths 3k .. 3k + 2), exposure [m^2/cd] and tone mapping
+    (exponential / filmic / clamp)."""
+
+    output_mode: str = "display"
+    output_triple: int = 0
+    exposure: float = 1e-4
+    tone_mapping: str = "exponential"
+    show_sun: bool = True
+    sun_angular_radius_deg: float = SUN_ANGULAR_RADIUS_DEG
+
+
+def atmosphere_uniforms(atm):
+    """The uniforms both actors take from the atmosphere: common.glsl's (radii, groups, phases), the ground's
+    albedo and the spectral -> linear sRGB weights (``rgb_weights``)."""
+    G = group_count(atm.n_wavelengths)
+    rgb_w = np.zeros((MAX_GROUPS, 3, 4), np.float32)
+    rgb_w[:G] = np.moveaxis(pad_groups(linear_srgb_matrix(atm).T), 0, 1)          # (W, 3) -> (G, 3, 4)
+    per_group = lambda values: groups_array(pad_groups(values))
+    return {
+        "bottom_radius": ("f", atm.bottom_radius_m), "top_radius": ("f", atm.top_radius_m),
+        "group_count": ("i", G),
+        "rayleigh_anisotropy": ("f", 1.0 if atm.rayleigh.phase == "rayleigh" else 0.932),
+        "mie_g1": ("4fv", per_group(atm.mie.g1)), "mie_g2": ("4fv", per_group(atm.mie.g2)),
+        "mie_alpha": ("4fv", per_group(atm.mie.alpha)),
+        "surface_albedo": ("4fv", per_group(atm.ground_albedo)),
+        "rgb_weights": ("4fv", rgb_w.reshape(-1, 4)),
+    }
+
+
+def camera_uniforms(renderer):
+    """The camera's uniforms, computed in double precision from the renderer's active camera: position, its
+    distance from the centre, the view basis scaled by the half fields of view, and the viewport in pixels."""
+    cam = renderer.GetActiveCamera()
+    pos = np.array(cam.GetPosition(), dtype=float)
+    forward = np.array(cam.GetFocalPoint(), dtype=float) - pos
+    forward /= np.linalg.norm(forward)
+    up = np.array(cam.GetViewUp(), dtype=float)
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    x0, y0, x1, y1 = renderer.GetViewport()
+    w, h = renderer.GetRenderWindow().GetActualSize()
+    vw, vh = (x1 - x0) * w, (y1 - y0) * h
+    tan_v = math.tan(math.radians(cam.GetViewAngle()) / 2)
+    if cam.GetUseHorizontalViewAngle():
+        tan_h, tan_v = tan_v, tan_v * vh / vw
+    else:
+        tan_h = tan_v * vw / vh
+    return {"camera_position": ("3f", pos), "camera_radius": ("f", float(np.linalg.norm(pos))),
+            "camera_forward": ("3f", forward), "camera_right": ("3f", right * tan_h),
+            "camera_up": ("3f", up * tan_v), "viewport": ("4f", (x0 * w, y0 * h, vw, vh))}
+
+
+def draw_uniforms(renderer, sun_direction, settings):
+    """The per-draw uniforms of the table-based actors: the camera's (double precision), the sun and the display
+    settings."""
+    cos_radius = math.cos(math.radians(settings.sun_angular_radius_deg))
+    return {
+        **camera_uniforms(renderer),
+        "sun_direction": ("3f", sun_direction / np.linalg.norm(sun_direction)),
+        "sun_cos_radius": ("f", cos_radius), "sun_solid_angle": ("f", 2 * math.pi * (1 - cos_radius)),
+        "show_sun": ("i", int(settings.show_sun)),
+        "output_mode": ("i", OUTPUT_MODES[settings.output_mode]), "output_triple": ("i", settings.output_triple),
+        "exposure": ("f", settings.exposure), "tone_mapping": ("i", TONE_MAPPINGS[settings.tone_mapping]),
+    }
+
+
+def groups_array(values):
+    """(G, 4) per-group values padded to MAX_GROUPS rows, flat for SetUniform4fv."""
+    out = np.zeros((MAX_GROUPS, 4), np.float32)
+    out[:len(values)] = values
+    return out
+
+
+def set_uniform(program, name, kind, value):
+    if kind == "f":
+        program.SetUniformf(name, float(value))
+    elif kind == "i":
+        program.SetUniformi(name, int(value))
+    elif kind == "2f":
+        program.SetUniform2f(name, [float(v) for v in value])
+    elif kind == "3f":
+        program.SetUniform3f(name, [float(v) for v in value])
+    elif kind == "4f":
+        program.SetUniform4f(name, [float(v) for v in value])
+    elif kind == "1fv":
+        arr = np.ascontiguousarray(value, dtype=np.float32)
+        program.SetUniform1fv(name, len(arr), arr)
+    elif kind == "3fv":
+        arr = np.ascontiguousarray(value, dtype=np.float32)
+        program.SetUniform3fv(name, len(arr), arr.ravel())
+    else:
+        arr = np.ascontiguousarray(value, dtype=np.float32)
+        program.SetUniform4fv(name, len(arr), arr.ravel())

@@ -1,0 +1,132 @@
+// The table-based model along one view ray, in either stage (after atmosphere_functions.glsl): where the ray
+// enters the atmosphere, and the three terms whose sum is its radiance, as the NumPy evaluator computes it
+// (planetviz/tables/evaluator.py, sky_radiance):
+//   L = inscatter + albedo * ground_light + [the ray is in the sun's disc] sun_transmittance / sun_solid_angle
+// The per-pixel renderer (atmosphere_fragment.glsl) evaluates all three for every pixel. The per-vertex renderer
+// evaluates the inscatter (the 4D tables: most of the cost) at the vertices of a direction mesh
+// (atmosphere_vertex.glsl) and the rest, which changes faster across the screen (the texture, the terminator on
+// the ground, the disc) but reads only 2D tables, per pixel (atmosphere_interpolated.glsl).
+//
+// Uniforms:
+//   camera_position        vec3   planet-centred camera position [m] (float; used for the ground point's texture)
+//   camera_radius          float  |camera_position| [m], computed in double on the CPU
+//   sun_direction          vec3   unit vector toward the sun
+//   use_surface_texture    int    1: albedo from the surface texture, 0: surface_albedo
+//   albedo_weights         vec4[3 MAX_GROUPS]  albedo of group g = sum_c albedo_weights[3g + c] * linear texture[c]
+//   surface_albedo         vec4[MAX_GROUPS]  the atmosphere file's ground albedo per wavelength
+//   rgb_weights            vec4[3 MAX_GROUPS]  linear sRGB of group g = dot(rgb_weights[3g + c], L_g): the star's
+//                                 spectral irradiance, the CIE 1931 functions, 683 lm/W and colour-science's
+//                                 XYZ -> sRGB matrix folded in (planetviz/color.py; luminance in cd/m^2)
+//   output_mode            int    0: display colour (exposure, tone mapping, sRGB encoding); 1: the radiance at
+//                                 wavelengths 3 k .. 3 k + 2 (k = output_triple) per unit solar irradiance [1/sr]
+//                                 in R, G, B (alpha stays 1: VTK blends by alpha); 2: linear sRGB (CIE Y in
+//                                 cd/m^2), not tone-mapped
+//   output_triple          int    k of output_mode 1
+
+uniform vec3 camera_position;
+uniform float camera_radius;
+uniform vec3 sun_direction;
+uniform int use_surface_texture;
+uniform vec4 albedo_weights[3 * MAX_GROUPS];
+uniform vec4 surface_albedo[MAX_GROUPS];
+uniform vec4 rgb_weights[3 * MAX_GROUPS];
+uniform int output_mode;
+uniform int output_triple;
+
+// The wavelength groups output_mode needs: first_group() .. last_group().
+int first_group() { return output_mode == 1 ? 3 * output_triple / 4 : 0; }
+int last_group() { return output_mode == 1 ? (3 * output_triple + 2) / 4 : group_count - 1; }
+
+// Weights of group g's four wavelengths in output channel k.
+vec4 channel_weights(int k, int g) {
+    if (output_mode != 1) return rgb_weights[3 * g + k];
+    return vec4(equal(ivec4(4 * g) + ivec4(0, 1, 2, 3), ivec4(3 * output_triple + k)));
+}
+
+// Group g's radiance l added to the output channels.
+vec3 to_channels(vec4 l, int g) {
+    return vec3(dot(channel_weights(0, g), l), dot(channel_weights(1, g), l), dot(channel_weights(2, g), l));
+}
+
+// The view ray along v where it enters the atmosphere: (r, mu, mu_s, nu), the start point x and whether the ray
+// meets the atmosphere at all.
+struct ViewRay { vec3 v; vec3 x; float r; float mu; float mu_s; float nu; bool visible; };
+
+ViewRay view_ray(vec3 v) {
+    ViewRay ray;
+    ray.v = v;
+    ray.x = camera_position;
+    ray.r = camera_radius;
+    ray.mu = dot(camera_position, ray.v) / camera_radius;
+    ray.visible = true;
+    if (camera_radius > top_radius) {
+        // Closest approach of the planet centre, |x - (x.v) v|^2, computed as a vector (no cancellation).
+        float b = dot(camera_position, ray.v);
+        vec3 q = camera_position - b * ray.v;
+        float p2 = dot(q, q);
+        if (b >= 0.0 || p2 >= top_radius * top_radius) {
+            ray.visible = false;
+        } else {
+            float half_chord = sqrt(top_radius * top_radius - p2);
+            ray.x = q - half_chord * ray.v;
+            ray.r = top_radius;
+            ray.mu = -half_chord / top_radius;
+        }
+    }
+    ray.mu = clamp_cosine(ray.mu);
+    ray.mu_s = clamp_cosine(dot(normalize(ray.x), sun_direction));
+    ray.nu = clamp_cosine(dot(ray.v, sun_direction));
+    return ray;
+}
+
+bool ray_hits_ground(ViewRay ray) { return ray.visible && ray_intersects_ground(ray.r, ray.mu); }
+
+// Where the ray meets the ground (planet-centred, [m]); only meaningful where ray_hits_ground.
+vec3 ground_point(ViewRay ray) { return ray.x + distance_to_bottom_atmosphere_boundary(ray.r, ray.mu) * ray.v; }
+
+// The ground's albedo of group g for the linear colour c of the surface texture at the ground point.
+vec4 albedo_from_colour(vec3 c, int g) {
+    if (use_surface_texture == 0) return surface_albedo[g];
+    return albedo_weights[3 * g] * c.r + albedo_weights[3 * g + 1] * c.g + albedo_weights[3 * g + 2] * c.b;
+}
+
+// Where a ground ray ends: its length d and (r, mu, mu_s) at the ground point.
+struct GroundHit { float d; float r; float mu; float mu_s; };
+
+GroundHit ground_hit(ViewRay ray) {
+    GroundHit h;
+    h.d = distance_to_bottom_atmosphere_boundary(ray.r, ray.mu);
+    h.r = max(sqrt(max(h.d * h.d + 2.0 * ray.r * ray.mu * h.d + ray.r * ray.r, 0.0)), bottom_radius);
+    h.mu = clamp_cosine((ray.r * ray.mu + h.d) / h.r);
+    h.mu_s = clamp_cosine((ray.r * ray.mu_s + h.d * ray.nu) / h.r);
+    return h;
+}
+
+// Light scattered toward the camera along the ray, of group g per unit solar irradiance [1/sr]; for ground rays
+// S(x) - T(x, y) S(y) (aerial perspective).
+vec4 get_inscatter(ViewRay ray, int g) {
+    if (!ray.visible) return vec4(0.0);
+    bool ground = ray_intersects_ground(ray.r, ray.mu);
+    vec4 l = get_phased_scattering(ray.r, ray.mu, ray.mu_s, ray.nu, ground, g);
+    if (!ground) return l;
+    GroundHit h = ground_hit(ray);
+    vec4 t_xy = get_transmittance(ray.r, ray.mu, h.d, true, g);
+    return max(l - t_xy * get_phased_scattering(h.r, h.mu, h.mu_s, ray.nu, true, g), 0.0);
+}
+
+// The radiance of a ground of albedo 1 at the end of a ground ray, seen through the atmosphere, of group g per
+// unit solar irradiance: T(x, y) (T_sun max(n . s, 0) + E_sky) / pi [1/sr]; 0 for rays that miss the ground.
+vec4 get_ground_light(ViewRay ray, int g) {
+    if (!ray_hits_ground(ray)) return vec4(0.0);
+    GroundHit h = ground_hit(ray);
+    vec4 sun = get_transmittance_to_sun(bottom_radius, h.mu_s, g) * max(h.mu_s, 0.0);
+    return get_transmittance(ray.r, ray.mu, h.d, true, g) / PI * (sun + get_irradiance(bottom_radius, h.mu_s, g));
+}
+
+// Transmittance from the camera to space along the ray, of group g (1 for rays that miss the atmosphere, 0 for
+// rays that hit the ground): the sun disc's radiance is this over sun_solid_angle.
+vec4 get_sun_transmittance(ViewRay ray, int g) {
+    if (!ray.visible) return vec4(1.0);
+    if (ray_intersects_ground(ray.r, ray.mu)) return vec4(0.0);
+    return get_transmittance_to_top_atmosphere_boundary(ray.r, ray.mu, g);
+}
