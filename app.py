@@ -23,7 +23,7 @@ def main(argv=None):
         from planetviz.gui import run
         from planetviz.render import Scene
         scene = Scene(args.atmosphere, quality=args.quality, window_size=args.size, method=args.method,
-                      exposure=args.exposure, tone_mapping=args.tone_mapping)
+                      shading=args.shading or "auto", exposure=args.exposure, tone_mapping=args.tone_mapping)
         from pathlib import Path
         run(scene, mode=args.mode, atmosphere_file=args.atmosphere if Path(args.atmosphere).is_file() else None)
         return 0

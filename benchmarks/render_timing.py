@@ -8,7 +8,8 @@ Views: Earth from orbit (4 radii, 30 deg: the planet fills ~40% of the frame), f
 along the horizon: the whole frame is sky and ground) and from 1e9 m (the planet a few pixels wide). The plain
 sphere is PyVista's textured sphere with VTK's default lighting and the same Earth texture, seen from the orbit
 view: what a globe without an atmosphere costs. Median ms per frame over ``--frames`` (``--pixel-frames`` for the
-per-pixel renderer, at 1-4 s per frame on llvmpipe), each frame finished with WaitForCompletion, after one
+per-pixel renderer, at 1-4 s per frame on llvmpipe), still and (per vertex) with the camera moving, each frame
+finished with WaitForCompletion, after one
 warm-up frame (shader compile and table upload). Multisampling is off everywhere (PyVista's default of 8
 samples triples llvmpipe's frame time).
 """
@@ -26,11 +27,15 @@ from planetviz.render import Scene  # noqa: E402
 from planetviz.render.surface import surface_texture  # noqa: E402
 
 
-def frame_ms(window, frames):
+def frame_ms(window, frames, camera=None):
+    """Median ms per frame; with ``camera``, moved by one part in 1e7 before each frame (a camera in motion:
+    the per-vertex renderer rebuilds its mesh)."""
     window.Render()
     window.WaitForCompletion()
     times = []
-    for _ in range(frames):
+    for i in range(frames):
+        if camera is not None:
+            camera.SetPosition(*(np.array(camera.GetPosition()) * (1 + 1e-7 * (-1) ** i)))
         t0 = time.perf_counter()
         window.Render()
         window.WaitForCompletion()
@@ -64,8 +69,8 @@ def main():
     views = {"orbit (4 radii)": lambda s: s.view_from_space(latitude=20, longitude=10),
              "ground, sky and ground": lambda s: s.view_from_ground(latitude=45, heading=90, pitch=5),
              "1e9 m (a few pixels)": lambda s: s.view_from_space(distance=1e9, fov=30)}
-    print("| size | plain textured sphere | view | per pixel | per vertex |")
-    print("|---|---|---|---|---|")
+    print("| size | plain textured sphere | view | per pixel | per vertex | per vertex, camera moving |")
+    print("|---|---|---|---|---|---|")
     for size in args.sizes:
         w, h = (int(v) for v in size.split("x"))
         results = {}
@@ -76,11 +81,13 @@ def main():
                 scene.render()
                 results[name, shading] = frame_ms(scene.ren_win, args.pixel_frames if shading == "pixel"
                                                   else args.frames)
+                if shading == "vertex":
+                    results[name, "moving"] = frame_ms(scene.ren_win, args.frames, scene.renderer.GetActiveCamera())
             plain = plain_sphere_ms(scene.atmosphere, (w, h), args.frames) if shading == "vertex" else None
             scene.close()
         for name in views:
-            print(f"| {size} | {plain:.1f} | {name} | {results[name, 'pixel']:.1f} | {results[name, 'vertex']:.1f} |",
-                  flush=True)
+            print(f"| {size} | {plain:.1f} | {name} | {results[name, 'pixel']:.1f} | {results[name, 'vertex']:.1f} | "
+                  f"{results[name, 'moving']:.1f} |", flush=True)
 
 
 if __name__ == "__main__":

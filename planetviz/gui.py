@@ -8,7 +8,7 @@ tables shows the quick view while they are computed in the background (the statu
 
 Keys (chosen clear of VTK's and PyVista's own): F1-F5 presets (earth, mars, exo-co2-thick, exo-mdwarf,
 earth-advanced); o orbit, l limb from low orbit, a aircraft, g ground at the horizon toward the sun; y fly
-between orbit and the ground; x renderer (tables / quick view); k mode (standard / advanced); t tone mapping;
+between orbit and the ground; x renderer (tables / quick view); h shading (tables per pixel / per vertex); k mode (standard / advanced); t tone mapping;
 i quality (draft / standard / high); z screenshot (planetviz-<n>.png); F9 save the atmosphere
 (planetviz-atmosphere-<n>.json); F6 reload the atmosphere file the app was started with (edit it in a text
 editor, press F6: an invalid file is refused with a message, the picture stays).
@@ -108,6 +108,7 @@ class PlanetApp:
             scene.add_key_event(key, lambda v=view: self.camera_preset(v))
         scene.add_key_event("y", self.fly)
         scene.add_key_event("x", self.toggle_renderer)
+        scene.add_key_event("h", self.toggle_shading)
         scene.add_key_event("k", self.toggle_mode)
         scene.add_key_event("t", self.cycle_tone_mapping)
         scene.add_key_event("i", self.cycle_quality)
@@ -302,6 +303,10 @@ class PlanetApp:
         self.scene.set_method(method)
         self.refresh()
 
+    def toggle_shading(self):
+        self.scene.set_shading("vertex" if self.scene.shading == "pixel" else "pixel")
+        self.refresh()
+
     def toggle_mode(self):
         self.mode = "advanced" if self.mode == "standard" else "standard"
         self._add_sliders()
@@ -329,7 +334,7 @@ class PlanetApp:
         job = s.precompute_progress
         tables = f"tables {job[0]} {100 * job[1]:.0f}%" if job else \
             (f"tables failed: {s.table_error}" if s.table_error else "tables ready")
-        return (f"{s.atmosphere.name} | renderer: {s.renderer_in_use} | {tables} | "
+        return (f"{s.atmosphere.name} | renderer: {s.renderer_in_use} (per {s.shading}) | {tables} | "
                 f"{s.quality} quality | frame {self._frame_ms:.0f} ms | {self.mode} mode | "
                 f"tone mapping {s.settings.tone_mapping}")
 

@@ -50,6 +50,9 @@ def add_render_options(p):
     p.add_argument("--uniform-albedo", action="store_true", help="the atmosphere's ground albedo, no texture")
     p.add_argument("--method", choices=("tables", "fallback"), default="tables",
                    help="tables (all orders) or the quick view (single scattering, no precompute)")
+    p.add_argument("--shading", choices=("pixel", "vertex", "auto"), default=None,
+                   help="tables read per pixel or per vertex (auto: per vertex on a software OpenGL); "
+                        "default: pixel for pictures, auto for the window")
     p.add_argument("--samples", type=int, default=8, help="fallback: points per path")
     p.add_argument("--terms", choices=("physical", "artistic"), default="physical",
                    help="fallback: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
@@ -113,7 +116,8 @@ def run_render(args) -> int:
     from .render import Scene
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
-                  off_screen=True, method=args.method, quick_samples=args.samples, quick_terms=args.terms)
+                  off_screen=True, method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
+                  quick_terms=args.terms)
     try:
         set_view(scene, args)
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth)

@@ -41,6 +41,8 @@ def test_the_window_opens_responds_to_widgets_and_refuses_invalid_values(xvfb, t
     assert proc.returncode == 0, proc.stderr[-3000:]
     r = json.loads(out.read_text())
     assert r["window"] == "vtkXOpenGLRenderWindow" and not r["off_screen"]      # a real X11 window
+    # Xvfb's OpenGL is Mesa's llvmpipe: "auto" shading reads the tables per vertex there; h toggles it.
+    assert "llvmpipe" in r["gl_renderer"] and r["shading_auto"] == "vertex" and r["shading_after_h"] == "pixel"
     # Dragging the albedo slider from 0.1 toward 0.9 (the mouse lands within a few pixels of the mark) changes
     # the atmosphere and the picture: the ground gets brighter.
     assert r["albedo"] > 0.8 and r["albedo_change"] > 5.0

@@ -12,6 +12,7 @@ from planetviz import load_atmosphere  # noqa: E402
 from planetviz.geometry import distance_to_ground  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 from planetviz.render.direction_mesh import direction_mesh, in_view, may_see_ground  # noqa: E402
+from planetviz.render.scene import is_software_renderer  # noqa: E402
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
 
 SIZE = (64, 48)
@@ -124,3 +125,20 @@ def test_interpolation_error_against_the_per_pixel_renderer(view):
         assert np.sqrt(np.mean(rel ** 2)) < 0.02
     else:
         assert np.median(rel) < 0.01
+
+
+def test_auto_shading_reads_per_vertex_on_a_software_renderer():
+    # OSMesa is llvmpipe here: "auto" settles on per-vertex reading at the frame after the first; a GPU's
+    # renderer string keeps per-pixel reading.
+    scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE, shading="auto")
+    try:
+        scene.screenshot()
+        scene.screenshot()
+        assert "llvmpipe" in scene.gl_renderer and scene.shading == "vertex"
+        assert type(scene.planet).__name__ == "VertexAtmosphereActor"
+    finally:
+        scene.close()
+    assert is_software_renderer("llvmpipe (LLVM 15.0.6, 256 bits)")
+    assert not is_software_renderer("NVIDIA H100 80GB HBM3/PCIe/SSE2")
+    with pytest.raises(ValueError, match="shading: one of pixel, vertex, auto"):
+        Scene("earth", quality="draft", off_screen=True, window_size=SIZE, shading="gouraud")

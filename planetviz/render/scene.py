@@ -31,6 +31,11 @@ from .vertex_actor import VertexAtmosphereActor
 SHADINGS = {"pixel": AtmosphereActor, "vertex": VertexAtmosphereActor}
 
 
+def is_software_renderer(gl_renderer):
+    """True for an OpenGL renderer string of a CPU rasteriser (Mesa's llvmpipe, softpipe, swrast; OpenSWR)."""
+    return any(name in gl_renderer.lower() for name in ("llvmpipe", "softpipe", "swrast", "swr", "software"))
+
+
 def flight_path(bottom_radius, frames, level_pitch=5.0):
     """[(altitude [m], pitch [deg])] of a flight straight down from 3 planet radii to 1.7 m above the ground:
     altitudes evenly spaced in the logarithm, looking straight down from orbit and levelling out to
@@ -80,10 +85,11 @@ class Scene(pv.Plotter):
         ``"tables"`` (precomputed multiple scattering) or ``"fallback"`` (the quick view: single scattering per
         vertex, no precompute).
     shading : str
-        How the tables are read: ``"pixel"`` (every pixel, the paper's Algorithm 1) or ``"vertex"`` (the vertices
-        of an adaptive mesh of view directions, interpolated, with the surface texture and the sun disc per
-        pixel: about 20x faster on a software renderer, within the interpolation error measured in
-        docs/benchmarks.md).
+        How the tables are read: ``"pixel"`` (every pixel, the paper's Algorithm 1), ``"vertex"`` (the 4D
+        tables at the vertices of an adaptive mesh of view directions, interpolated, with the lit ground and the
+        sun disc per pixel: about 20x faster on a software renderer, within the interpolation error measured in
+        docs/benchmarks.md) or ``"auto"`` (``"vertex"`` on a software OpenGL such as llvmpipe, else
+        ``"pixel"``; decided after the first frame).
     quick_samples, quick_terms : int, str
         The quick view's points per path and terms (``"physical"`` or Keller and Bohn's ``"artistic"``).
 
@@ -101,6 +107,8 @@ class Scene(pv.Plotter):
                  tone_mapping="exponential", window_size=(960, 540), cache=True, method="tables",
                  shading="pixel", quick_samples=8, quick_terms="physical", **kwargs):
         self._job = None                      # a background precompute (render() may run inside __init__)
+        self._auto_shading = False
+        self.gl_renderer = None               # the OpenGL renderer string, known after the first frame
         super().__init__(window_size=list(window_size), **kwargs)
         self.ren_win.SetMultiSamples(0)
         self.set_background("black")
@@ -109,10 +117,12 @@ class Scene(pv.Plotter):
             raise ValueError(f"tone_mapping: one of {', '.join(TONE_MAPPINGS)}, got {tone_mapping!r}")
         if not (np.isfinite(exposure) and exposure > 0):
             raise ValueError(f"exposure: a positive finite number, got {exposure!r}")
-        if shading not in SHADINGS:
-            raise ValueError(f"shading: one of {', '.join(SHADINGS)}, got {shading!r}")
+        if shading not in (*SHADINGS, "auto"):
+            raise ValueError(f"shading: one of {', '.join(SHADINGS)}, auto, got {shading!r}")
         self.settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
-        self._shading = shading
+        self._shading = "vertex" if shading == "auto" else shading
+        self._auto_shading = shading == "auto"
+        self.renderer.AddObserver("EndEvent", self._note_gl_renderer)
         self.planet = None                    # the table-based actor (None while its tables are computed)
         self.quick = None                     # the quick-view actor, made on first use
         self.quick_samples, self.quick_terms = quick_samples, quick_terms
@@ -216,9 +226,18 @@ class Scene(pv.Plotter):
         return None if self._job is None else self._job.progress
 
     def render(self):
-        """Render, first switching to the tables if a background precompute has finished."""
+        """Render, first switching to the tables if a background precompute has finished (and settling
+        ``shading="auto"`` once the OpenGL renderer is known)."""
         self._collect_tables()
+        if self._auto_shading and self.gl_renderer is not None:
+            self._auto_shading = False
+            self.set_shading("vertex" if is_software_renderer(self.gl_renderer) else "pixel")
         return super().render()
+
+    def _note_gl_renderer(self, caller=None, event=None):
+        if self.gl_renderer is None:
+            lines = [line for line in self.ren_win.ReportCapabilities().splitlines() if "renderer string" in line]
+            self.gl_renderer = lines[0].split(":", 1)[1].strip() if lines else ""
 
     def _collect_tables(self):
         job = self._job

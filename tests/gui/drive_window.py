@@ -63,12 +63,17 @@ def main(out):
     out = Path(out)
     atmosphere_file = out.with_name("my-planet.json")
     atmosphere_file.write_text(PRESETS["earth"].read_text())
-    scene = Scene(str(atmosphere_file), quality="draft", window_size=(480, 300), off_screen=False)
+    scene = Scene(str(atmosphere_file), quality="draft", window_size=(480, 300), off_screen=False, shading="auto")
     app = PlanetApp(scene, atmosphere_file=atmosphere_file)
     scene.show(interactive_update=True, auto_close=False)
     result = {"window": scene.ren_win.GetClassName(), "off_screen": bool(scene.ren_win.GetOffScreenRendering())}
     app.camera_preset("ground")
     app.refresh()
+    app.refresh()                                       # "auto" shading is settled at the frame after the first
+    result["gl_renderer"], result["shading_auto"] = scene.gl_renderer, scene.shading
+    press(scene, "h")
+    result["shading_after_h"] = scene.shading
+    press(scene, "h")
     before = scene.screenshot(str(out.with_name("window-before.png")))
     drag(scene, app.sliders["ground albedo"], 0.9)
     scene.wait_for_tables(120)
