@@ -5,6 +5,7 @@ Two hypothesis profiles: the default run draws ``FAST`` examples per property; `
 too) repeats the properties with ``LONG`` examples. Counts and findings: docs/stability.md.
 """
 import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -207,3 +208,46 @@ def test_atmospheres_at_the_edges_give_finite_non_negative_radiance(name):
     for radiance, transmittance in (sky_radiance(tables, atm, cams, views, suns),
                                     fallback_radiance(atm, cams, views, suns, samples=6)):
         _check(radiance, transmittance)
+
+
+def _conservative():
+    """Earth with nothing absorbed: no ozone, Mie extinction = scattering, a white ground (albedo 1)."""
+    d = EARTH.to_dict()
+    d["name"] = "earth-conservative"
+    d["absorption"] = []
+    d["mie"]["extinction_m"] = list(d["mie"]["scattering_m"])
+    d["ground_albedo"] = [1.0] * len(d["wavelengths_nm"])
+    return type(EARTH).from_dict(d)
+
+
+def upward_flux_at_the_top(tables, atm, n=64):
+    """pi F_up / F_sun at the top of the atmosphere above the sub-solar point, per unit solar irradiance: the
+    radiance leaving the atmosphere, seen from 1 m below its top looking down, times |mu|, over the lower
+    hemisphere (the sun at the zenith makes it symmetric in azimuth): 2 pi int L(mu) |mu| dmu, Gauss-Legendre
+    on each side of the horizon's direction, where L steps from the ground to the limb."""
+    r = atm.top_radius_m - 1.0
+    mu_h = -np.sqrt(1.0 - (atm.bottom_radius_m / r) ** 2)
+    x, w = np.polynomial.legendre.leggauss(n)
+    flux = np.zeros(atm.n_wavelengths)
+    for a, b in ((-1.0, mu_h), (mu_h, 0.0)):
+        mu = 0.5 * (b - a) * x + 0.5 * (b + a)
+        views = np.stack([np.sqrt(1 - mu ** 2), np.zeros_like(mu), mu], axis=1)
+        radiance, _ = sky_radiance(tables, atm, np.tile([0.0, 0.0, r], (n, 1)), views, [0.0, 0.0, 1.0])
+        flux += 2 * np.pi * 0.5 * (b - a) * (w[:, None] * radiance * np.abs(mu)[:, None]).sum(0)
+    return flux
+
+
+def test_energy_is_conserved_with_no_absorption_and_a_white_ground():
+    # With nothing absorbed and a white ground every photon of the sun's beam leaves the atmosphere again: above
+    # the sub-solar point the upward flux equals the incoming one (mu_0 F = 1 per unit irradiance), less the
+    # light carried sideways to where the sun is lower (a photon's excursions between ground and sky are tens of
+    # km against a 6,360 km radius: under 1e-3) and the orders left out (each stopped below 1e-4 of the total).
+    # More than 1 breaks conservation: upper bound 1.01 (the tables' own ~1% error). Measured: 0.978-0.985
+    # (draft, standard and high alike, the quadrature converged at 64 nodes): the tables lose 1.5-2.2% of the
+    # energy, a known defect (docs/stability.md); lower bound 0.97 keeps it from growing unnoticed.
+    atm = _conservative()
+    sizes = replace(QUALITY["standard"], tolerance=1e-4)
+    tables = precompute(atm, sizes)
+    flux = upward_flux_at_the_top(tables, atm)
+    assert tables.orders >= 10, tables.orders
+    assert np.all(flux <= 1.01) and np.all(flux >= 0.97), (flux, tables.orders)
