@@ -222,21 +222,37 @@ class PlanetApp:
         return True
 
     def set_sun(self, elevation=None, azimuth=None):
+        """Move the sun (degrees, seen from the site below the camera); an invalid angle is refused with a
+        message and the sun stays where it was."""
         if self._building:
-            return
+            return None
         el, az = self._sun
-        self._sun = (el if elevation is None else float(elevation), az if azimuth is None else float(azimuth))
-        self.scene.set_sun(*self._sun)
+        sun = (el if elevation is None else float(elevation), az if azimuth is None else float(azimuth))
+        try:
+            self.scene.set_sun(*sun)
+        except ValueError as exc:
+            self.show_message(f"refused: {exc}")
+            self.refresh()
+            return False
+        self._sun = sun
         for name, value in zip(("sun elevation [deg]", "sun azimuth [deg]"), self._sun):
             if name in self.sliders:                  # keep the sliders in step when set from code or keys
                 self.sliders[name].GetRepresentation().SetValue(value)
         self.refresh()
+        return True
 
     def set_exposure(self, value):
+        """Set the exposure [m^2/cd]; anything but a positive finite number is refused with a message."""
         if self._building:
-            return
-        self.scene.settings.exposure = float(value)
+            return None
+        value = float(value)
+        if not (np.isfinite(value) and value > 0):
+            self.show_message(f"refused: exposure must be a positive finite number [m^2/cd], got {value!r}")
+            self.refresh()
+            return False
+        self.scene.settings.exposure = value
         self.refresh()
+        return True
 
     def camera_preset(self, name):
         s, lat = self.scene, 30.0

@@ -12,7 +12,10 @@ in vec3 mesh_sun;
 
 vec4 atmosphere_interpolated() {
     vec3 v = pixel_direction();
-    vec3 value = mesh_inscatter;
+    // Spectral radiance is interpolated from non-negative vertices, but the rasteriser's barycentric weights can be
+    // slightly negative on the slivers straddling a limb, which would extrapolate below 0 (linear sRGB may be
+    // negative out of gamut and stays as it is; the display clamps).
+    vec3 value = output_mode == 1 ? max(mesh_inscatter, 0.0) : mesh_inscatter;
     bool ground = false;
     if (!sky_part) {
         ViewRay ray = view_ray(v);
@@ -24,6 +27,6 @@ vec4 atmosphere_interpolated() {
             }
         }
     }
-    if (!ground && in_sun_disc(v)) value += mesh_sun;
+    if (!ground && in_sun_disc(v)) value += output_mode == 1 ? max(mesh_sun, 0.0) : mesh_sun;
     return output_mode == 0 ? vec4(display_colour(value), 1.0) : vec4(value, 1.0);
 }

@@ -7,5 +7,9 @@ uniform int output_mode;
 in vec3 fallback_value;
 
 vec4 fallback_fragment() {
-    return output_mode == 0 ? vec4(display_colour(fallback_value), 1.0) : vec4(fallback_value, 1.0);
+    // Spectral radiance is interpolated from non-negative vertices, but the rasteriser's barycentric weights can be
+    // slightly negative on the slivers straddling a limb, which would extrapolate below 0 (linear sRGB may be
+    // negative out of gamut and stays as it is; the display clamps).
+    vec3 value = output_mode == 1 ? max(fallback_value, 0.0) : fallback_value;
+    return output_mode == 0 ? vec4(display_colour(value), 1.0) : vec4(value, 1.0);
 }

@@ -140,3 +140,63 @@ def test_standard_mode_turbidity_slider_follows_eq_17():
     ratio = np.asarray(base["mie"]["extinction_m"]) / np.asarray(base["mie"]["scattering_m"])
     assert np.allclose(np.asarray(d["mie"]["extinction_m"]) / want, ratio)
     assert np.isclose(_turbidity_of(d, base), 4.0)
+
+
+def app_sequences(n_examples):
+    """Generated sequences of what a user (or a script driving PlanetApp) does: any slider set to any float
+    (NaN, infinities and values far outside the slider's range included), the sun and the exposure set to any
+    float, keys that switch renderer, shading, mode, tone mapping and camera. After every step the scene must
+    hold a valid atmosphere; a refused step must leave the atmosphere, sun and exposure as they were and say so;
+    the picture at the end of each sequence must be finite and non-negative."""
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    values = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.floats(-2.0, 2.0))
+    action = st.one_of(
+        st.tuples(st.just("slider"), st.integers(0, 9), values),
+        st.tuples(st.just("sun"), values, st.floats(-720.0, 720.0)),
+        st.tuples(st.just("exposure"), values, st.just(0.0)),
+        st.tuples(st.just("key"), st.sampled_from(["toggle_renderer", "toggle_shading", "toggle_mode",
+                                                   "cycle_tone_mapping", "orbit", "ground", "limb"]), st.just(0.0)))
+
+    @settings(max_examples=n_examples, deadline=None,
+              suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+    @given(steps=st.lists(action, min_size=1, max_size=6))
+    def check(app, steps):
+        from planetviz import Atmosphere
+        from planetviz.gui import STANDARD
+        scene = app.scene
+        for kind, a, b in steps:
+            before = (scene.atmosphere, app._sun, scene.settings.exposure)
+            if kind == "slider":
+                rows = STANDARD if app.mode == "standard" else app._advanced_rows()
+                label, _, _, put = rows[a % len(rows)]
+                ok = app.change_parameter(label, put, b)
+            elif kind == "sun":
+                ok = app.set_sun(elevation=a, azimuth=b)
+            elif kind == "exposure":
+                ok = app.set_exposure(a)
+            else:
+                ok = getattr(app, a)() if a.startswith(("toggle", "cycle")) else app.camera_preset(a)
+            assert Atmosphere.from_dict(scene.atmosphere.to_dict()) == scene.atmosphere
+            if ok is False:
+                assert app.message and (scene.atmosphere, app._sun, scene.settings.exposure) == before
+        scene.wait_for_tables(120)
+        hdr = scene.render_hdr()
+        assert np.all(np.isfinite(hdr.radiance)) and np.all(hdr.radiance >= 0), hdr.radiance.min()
+    return check
+
+
+@pytest.fixture(scope="module")
+def app():
+    """One off-screen window for all generated sequences: a user's session is one long sequence anyway."""
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+    from planetviz.gui import PlanetApp
+    from planetviz.render import Scene
+    scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=(48, 32))
+    yield PlanetApp(scene)
+    scene.close()
+
+
+test_generated_app_input = app_sequences(10)
+test_generated_app_input_long = pytest.mark.slow(app_sequences(60))

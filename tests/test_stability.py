@@ -144,6 +144,25 @@ def test_bad_queries_are_refused_by_name(camera, view, sun, word):
             f()
 
 
+def spectral_earth(n):
+    """The Earth at ``n`` wavelengths from 400 to 700 nm: Rayleigh scattering as lambda^-4 through the 550 nm
+    value, the aerosols and their phase as at 550 nm, ozone interpolated between the preset's three values."""
+    d = EARTH.to_dict()
+    d["name"] = f"earth-{n}-wavelengths"
+    wl = np.linspace(400.0, 700.0, n)
+    order = np.argsort(d["wavelengths_nm"])
+    at = lambda values: list(np.interp(wl, np.asarray(d["wavelengths_nm"])[order], np.asarray(values)[order]))
+    d["rayleigh"]["scattering_m"] = list(d["rayleigh"]["scattering_m"][1] * (550.0 / wl) ** 4)
+    for key in ("scattering_m", "extinction_m"):
+        d["mie"][key] = [d["mie"][key][1]] * n
+    for key in ("g1", "g2", "alpha"):
+        d["mie"]["phase"][key] = [d["mie"]["phase"][key][1]] * n
+    d["absorption"] = [{**a, "extinction_m": at(a["extinction_m"])} for a in d["absorption"]]
+    d["ground_albedo"] = [0.3] * n
+    d["wavelengths_nm"] = list(wl)
+    return d
+
+
 def _edge(name):
     """An atmosphere at an edge of what the files accept, from the standard Earth."""
     d = EARTH.to_dict()
@@ -180,6 +199,8 @@ def _edge(name):
         for k in ("g1", "g2", "alpha"):
             d["mie"]["phase"][k] = d["mie"]["phase"][k][1:2]
         d["absorption"] = [{**a, "extinction_m": a["extinction_m"][1:2]} for a in d["absorption"]]
+    elif name == "64 wavelengths":
+        d = spectral_earth(64)
     elif name in ("planet 100 km", "planet 1e8 m"):
         radius = 1e5 if name == "planet 100 km" else 1e8
         d["top_radius_m"] = radius + (d["top_radius_m"] - d["bottom_radius_m"])
@@ -189,7 +210,7 @@ def _edge(name):
 
 EDGES = ["scale heights 10 m", "scale heights 1000 km", "thickness 1 km", "thickness = radius", "optical depth 1e-8",
          "g = 0.99", "g = -0.99", "albedo 0", "albedo 1", "one wavelength", "planet 100 km", "planet 1e8 m",
-         pytest.param("optical depth 100", marks=pytest.mark.slow)]
+         pytest.param("optical depth 100", marks=pytest.mark.slow), pytest.param("64 wavelengths", marks=pytest.mark.slow)]
 
 
 @pytest.mark.parametrize("name", EDGES)

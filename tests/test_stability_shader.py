@@ -102,3 +102,40 @@ test_generated_views_per_pixel_shader = shader_property(FAST, "pixel")
 test_generated_views_per_vertex_shader = shader_property(FAST, "vertex")
 test_generated_views_per_pixel_shader_long = pytest.mark.slow(shader_property(LONG, "pixel"))
 test_generated_views_per_vertex_shader_long = pytest.mark.slow(shader_property(LONG, "vertex"))
+
+
+@pytest.mark.slow
+def test_sixty_four_wavelengths_render_as_the_evaluator_says():
+    # The most wavelengths the renderer takes (16 groups of 4: MAX_GROUPS): 22 read-back passes, every one of
+    # them against the evaluator on the same tables, per pixel and per vertex (bound as above).
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_stability import spectral_earth
+    from planetviz import Atmosphere
+    atm = Atmosphere.from_dict(spectral_earth(64))
+    for shading in ("pixel", "vertex"):
+        scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=SIZE, shading=shading)
+        scene.settings.show_sun = False
+        try:
+            for view in ("ground", "space"):
+                if view == "ground":
+                    scene.view_from_ground(latitude=10, heading=80, pitch=3, fov=70)
+                    scene.set_sun(elevation=8, azimuth=100)
+                else:
+                    scene.view_from_space(distance=2e7, latitude=10, longitude=20, fov=40)
+                    scene.set_sun(elevation=20, azimuth=120)
+                rows, cols = np.meshgrid(np.arange(SIZE[1]), np.arange(SIZE[0]), indexing="ij")
+                dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
+                if shading == "vertex":
+                    scene.planet.directions = dirs
+                got = scene.render_hdr().radiance.reshape(-1, 64)
+                scene.planet.directions = None
+                want, _ = sky_radiance(scene.planet.tables, atm, np.tile(scene.camera_location, (len(dirs), 1)),
+                                       dirs, scene.sun_direction)
+                keep = ~ambiguous(scene, dirs)
+                assert got.shape == want.shape and np.all(np.isfinite(got)) and np.all(got >= 0)
+                err = np.abs(got - want)[keep] / np.maximum(want[keep], FLOOR * want.max())
+                assert err.max() < BOUND, (shading, view, err.max())
+        finally:
+            scene.close()

@@ -142,3 +142,23 @@ def test_auto_shading_reads_per_vertex_on_a_software_renderer():
     assert not is_software_renderer("NVIDIA H100 80GB HBM3/PCIe/SSE2")
     with pytest.raises(ValueError, match="shading: one of pixel, vertex, auto"):
         Scene("earth", quality="draft", off_screen=True, window_size=SIZE, shading="gouraud")
+
+
+@pytest.mark.parametrize("method,shading", [("tables", "vertex"), ("fallback", "pixel")])
+def test_interpolation_never_extrapolates_below_zero(method, shading):
+    # Found by the app's generated input (tests/test_app.py): from orbit, with no Rayleigh scattering and the sun
+    # just below the horizon, one pixel at the top of the atmosphere's limb read -3e-4 in the float read-back:
+    # the rasteriser's barycentric weights on the slivers straddling the limb were slightly negative and
+    # extrapolated the (non-negative) vertex values. Spectral radiance is clamped at 0 per fragment now.
+    d = load_atmosphere("earth").to_dict()
+    d["rayleigh"]["scattering_m"] = [0.0, 0.0, 0.0]
+    atm = type(load_atmosphere("earth")).from_dict(d)
+    scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=(48, 32), method=method,
+                  shading=shading)
+    try:
+        scene.view_from_space(latitude=30.0, longitude=0.0)
+        scene.set_sun(elevation=-0.14304245423328377, azimuth=-6.0)
+        radiance = scene.render_hdr().radiance
+    finally:
+        scene.close()
+    assert radiance.max() > 0 and radiance.min() >= 0, radiance.min()
