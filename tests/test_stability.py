@@ -210,7 +210,8 @@ def _edge(name):
 
 EDGES = ["scale heights 10 m", "scale heights 1000 km", "thickness 1 km", "thickness = radius", "optical depth 1e-8",
          "g = 0.99", "g = -0.99", "albedo 0", "albedo 1", "one wavelength", "planet 100 km", "planet 1e8 m",
-         pytest.param("optical depth 100", marks=pytest.mark.slow), pytest.param("64 wavelengths", marks=pytest.mark.slow)]
+         pytest.param("optical depth 100", marks=pytest.mark.slow),
+         pytest.param("64 wavelengths", marks=pytest.mark.slow)]
 
 
 @pytest.mark.parametrize("name", EDGES)
