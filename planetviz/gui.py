@@ -9,8 +9,8 @@ tables shows the quick view while they are computed in the background (the statu
 Keys (chosen clear of VTK's and PyVista's own): F1-F5 presets (earth, mars, exo-co2-thick, exo-mdwarf,
 earth-advanced); o orbit, l limb from low orbit, a aircraft, g ground at the horizon toward the sun; y fly
 between orbit and the ground; x renderer (tables / quick view); h shading (tables per pixel / per vertex); k mode
-(standard / advanced); t tone mapping; i quality (draft / standard / high); z screenshot (planetviz-<n>.png); F9 save the atmosphere
-(planetviz-atmosphere-<n>.json); F6 reload the atmosphere file the app was started with (edit it in a text
+(standard / advanced); t tone mapping; i quality (draft / standard / high); z screenshot (planetviz-<n>.png); F9
+save the atmosphere (planetviz-atmosphere-<n>.json); F6 reload the atmosphere file the app was started with (edit it in a text
 editor, press F6: an invalid file is refused with a message, the picture stays).
 """
 from __future__ import annotations
