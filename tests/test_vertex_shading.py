@@ -162,3 +162,27 @@ def test_interpolation_never_extrapolates_below_zero(method, shading):
     finally:
         scene.close()
     assert radiance.max() > 0 and radiance.min() >= 0, radiance.min()
+
+
+def test_an_actor_taken_out_of_the_scene_stops_rebuilding_its_mesh(vertex):
+    # Every change of atmosphere or shading makes a new actor; the old one must stop following the camera, or
+    # each frame of a moving camera rebuilds one mesh per actor ever shown (the app's sliders make many).
+    old = vertex.planet
+    vertex.set_shading("pixel")
+    try:
+        key = old._mesh_key
+        vertex.view_from_ground(latitude=5, altitude=100.0, heading=33, pitch=4)
+        vertex.screenshot()
+        assert old._mesh_key == key and not old._observers
+    finally:
+        vertex.set_shading("vertex")
+    quick = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE, method="fallback")
+    try:
+        first = quick.quick
+        quick.set_atmosphere(quick.atmosphere)             # a new quick view replaces the first
+        key = first._mesh_key
+        quick.view_from_ground(latitude=5, altitude=100.0, heading=33, pitch=4)
+        quick.screenshot()
+        assert first._mesh_key == key and quick.quick._mesh_key != key
+    finally:
+        quick.close()

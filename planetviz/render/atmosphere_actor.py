@@ -140,5 +140,6 @@ class AtmosphereActor:
         self.textures.deactivate()
 
     def release(self):
-        """Free the GPU textures (call before the window closes)."""
+        """Stop following the renderer and free the GPU textures (call before the window closes)."""
+        self.renderer.RemoveObserver(self._end_observer)
         self.textures.release(self.renderer.GetRenderWindow())

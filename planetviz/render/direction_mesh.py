@@ -103,11 +103,16 @@ def may_see_ground(dirs, tris, camera, bottom):
     return np.min(theta[tris], axis=1) <= limb + dip + 1e-3
 
 
-def _polydata(points, cells, kind):
-    poly = vtkPolyData()
+def _points(points):
     pts = vtkPoints()
     pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=True))
-    poly.SetPoints(pts)
+    return pts
+
+
+def _polydata(points, cells, kind):
+    """Polydata of ``cells`` (polygons or vertices) over the shared vtkPoints ``points``."""
+    poly = vtkPolyData()
+    poly.SetPoints(points)
     offsets = np.arange(len(cells) + 1, dtype=np.int64) * cells.shape[1]
     arr = vtkCellArray()
     arr.SetData(numpy_to_vtkIdTypeArray(offsets, deep=True),
@@ -164,7 +169,13 @@ class DirectionMeshActor:
                 self.actor.AddPart(actor)
         else:
             self.actor = actors[0]
-        renderer.AddObserver(vtkCommand.StartEvent, self._update_mesh)
+        self._observers = [renderer.AddObserver(vtkCommand.StartEvent, self._update_mesh)]
+
+    def release(self):
+        """Stop following the renderer (call when the actor is taken out of the scene)."""
+        for tag in self._observers:
+            self.renderer.RemoveObserver(tag)
+        self._observers = []
 
     def uniforms(self):
         """{name: (kind, value)} of the uniforms to set for the next draw."""
@@ -184,22 +195,22 @@ class DirectionMeshActor:
         self._mesh_key = key
         distance = max(1e6, 1e-2 * np.linalg.norm(cam))
         if self.directions is not None:
-            dirs = self.directions
-            parts = [_polydata(cam + distance * dirs, np.arange(len(dirs))[:, None], "verts")]
+            points = _points(cam + distance * self.directions)
+            parts = [_polydata(points, np.arange(len(self.directions))[:, None], "verts"),
+                     _polydata(points, np.zeros((0, 3), np.int64), "polys")]
         else:
             bottom = self.atmosphere.bottom_radius_m
             dirs, tris = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m)
             tris = tris[in_view(dirs, tris, *(view[name][1] for name in ("camera_forward", "camera_right",
                                                                           "camera_up")))]
+            points = _points(cam + distance * dirs)
             if self.split_at_limb:
                 ground = may_see_ground(dirs, tris, cam, bottom)
-                parts = [_polydata(cam + distance * dirs, tris[ground], "polys"),
-                         _polydata(cam + distance * dirs, tris[~ground], "polys")]
+                parts = [_polydata(points, tris[ground], "polys"), _polydata(points, tris[~ground], "polys")]
             else:
-                parts = [_polydata(cam + distance * dirs, tris, "polys")]
-        empty = _polydata(np.zeros((0, 3)), np.zeros((0, 3), np.int64), "polys")
-        for k, mapper in enumerate(self.mappers):
-            mapper.SetInputData(parts[k] if k < len(parts) else empty)
+                parts = [_polydata(points, tris, "polys")]
+        for mapper, part in zip(self.mappers, parts):
+            mapper.SetInputData(part)
         self.renderer.ResetCameraClippingRange()
 
     @calldata_type(VTK_OBJECT)

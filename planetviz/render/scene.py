@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
+from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..atmosphere import Atmosphere
 from ..geometry import local_frame, site_direction
@@ -122,7 +123,7 @@ class Scene(pv.Plotter):
         self.settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
         self._shading = "vertex" if shading == "auto" else shading
         self._auto_shading = shading == "auto"
-        self.renderer.AddObserver("EndEvent", self._note_gl_renderer)
+        self.renderer.AddObserver(vtkCommand.EndEvent, self._note_gl_renderer)
         self.planet = None                    # the table-based actor (None while its tables are computed)
         self.quick = None                     # the quick-view actor, made on first use
         self.quick_samples, self.quick_terms = quick_samples, quick_terms
@@ -279,6 +280,7 @@ class Scene(pv.Plotter):
             self.planet = None
         if self.quick is not None:
             self.remove_actor(self.quick.actor)
+            self.quick.release()
             self.quick = None
 
     @property

@@ -31,7 +31,7 @@ class VertexAtmosphereActor(DirectionMeshActor):
                          "atmosphere_vertex",
                          shader_code(*TABLE_SHADERS, "display.glsl", "pixel.glsl", "atmosphere_interpolated.glsl"),
                          "atmosphere_interpolated", split_at_limb=True)
-        renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.textures.deactivate())
+        self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.textures.deactivate()))
 
     def _static_uniforms(self):
         return self.textures.static_uniforms()
@@ -43,5 +43,6 @@ class VertexAtmosphereActor(DirectionMeshActor):
         return {**self._static, **draw_uniforms(self.renderer, np.asarray(self.sun_direction), self.settings)}
 
     def release(self):
-        """Free the GPU textures (call before the window closes)."""
+        """Stop following the renderer and free the GPU textures (call before the window closes)."""
+        super().release()
         self.textures.release(self.renderer.GetRenderWindow())
