@@ -5,7 +5,8 @@ The actor is a sphere mesh just outside the top of the atmosphere with its front
 the pixels whose view rays can meet the atmosphere, from space (a planet a few pixels wide costs a few pixels) and
 from inside (the whole screen). Its fragment shader (shaders/atmosphere_ray.glsl, shaders/pixel.glsl and
 shaders/atmosphere_fragment.glsl) traces each pixel's ray analytically and reads the tables; the mesh's vertices
-only decide coverage, so their float precision at planetary scale does not matter. All uniforms and textures are
+only decide coverage, so their float precision at planetary scale does not matter (and their depth is set to
+the middle of the depth range). All uniforms and textures are
 set in the mapper's ``UpdateShaderEvent``, once per draw, from the current camera (computed in double precision).
 """
 from __future__ import annotations
@@ -118,6 +119,11 @@ class AtmosphereActor:
         self.actor.GetProperty().FrontfaceCullingOn()
         sp = self.actor.GetShaderProperty()
         code = shader_code(*TABLE_SHADERS, "display.glsl", "pixel.glsl", "atmosphere_fragment.glsl")
+        # The shell's depth means nothing (each fragment traces its ray), but computed from float32 vertices at
+        # 6.4e6 m with a near plane centimetres away it can land beyond the far plane and drop the whole view:
+        # drawn at mid-depth, as the direction mesh is.
+        sp.AddVertexShaderReplacement("//VTK::PositionVC::Impl", True,
+                                      "//VTK::PositionVC::Impl\n  gl_Position.z = 0.0;\n", False)
         sp.AddFragmentShaderReplacement("//VTK::Light::Dec", True, code, False)
         sp.AddFragmentShaderReplacement("//VTK::Light::Impl", True,
                                         "gl_FragData[0] = atmosphere_fragment();\n", False)
