@@ -1,4 +1,4 @@
-// From linear sRGB to the screen: exposure, tone mapping and sRGB encoding; sRGB decoding of 8-bit textures.
+// From linear sRGB to the screen: exposure, tone mapping and sRGB encoding.
 //
 // Uniforms:
 //   exposure               float  multiplies linear sRGB (luminance in cd/m^2) before tone mapping [m^2 / cd]
@@ -6,10 +6,6 @@
 
 uniform float exposure;
 uniform int tone_mapping;
-
-vec3 srgb_decode(vec3 c) {
-    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), vec3(greaterThan(c, vec3(0.04045))));
-}
 
 vec3 srgb_encode(vec3 c) {
     c = clamp(c, 0.0, 1.0);

@@ -9,7 +9,8 @@
 //   sun_cos_radius         float  cos of the sun's angular radius (the disc: nu > sun_cos_radius)
 //   sun_solid_angle        float  solid angle of the disc [sr]: its radiance is T / sun_solid_angle per unit irradiance
 //   show_sun               int    1: draw the sun disc
-//   surface_texture        sampler2D  the planet's surface colour (equirectangular, sRGB-encoded, 8 bit)
+//   surface_texture        sampler2D  the planet's surface colour (equirectangular, 8-bit sRGB stored as GL_SRGB8:
+//                                     the GPU returns it decoded to linear, filtered in linear)
 
 uniform vec3 camera_forward;
 uniform vec3 camera_right;
@@ -32,5 +33,5 @@ bool in_sun_disc(vec3 v) { return show_sun == 1 && dot(v, sun_direction) > sun_c
 vec3 surface_colour(vec3 p) {
     vec3 n = normalize(p);
     vec2 uv = vec2(atan(n.y, n.x) / (2.0 * PI) + 0.5, asin(clamp(n.z, -1.0, 1.0)) / PI + 0.5);
-    return srgb_decode(texture(surface_texture, uv).rgb);
+    return texture(surface_texture, uv).rgb;
 }

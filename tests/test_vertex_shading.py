@@ -1,6 +1,7 @@
 """The table-based renderer read per vertex (``Scene(shading="vertex")``): the same model as the per-pixel
 renderer at its vertices, a mesh split that never puts a ground ray in the sky's part, a view culling that
-leaves no pixel uncovered, and the interpolation error between vertices."""
+leaves no pixel uncovered, a culling of empty space that drops no ray to the atmosphere or the sun, and the
+interpolation error between vertices."""
 import os
 
 import numpy as np
@@ -11,8 +12,9 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 from planetviz import load_atmosphere  # noqa: E402
 from planetviz.geometry import distance_to_ground  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
-from planetviz.render.direction_mesh import direction_mesh, in_view, may_see_ground  # noqa: E402
+from planetviz.render.direction_mesh import direction_mesh, in_view, may_meet_disc, may_meet_sphere  # noqa: E402
 from planetviz.render.scene import is_software_renderer  # noqa: E402
+from planetviz.render.uniforms import camera_uniforms  # noqa: E402
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
 
 SIZE = (64, 48)
@@ -60,6 +62,61 @@ def test_vertex_shading_matches_the_evaluator_at_its_vertices(vertex, view):
     assert np.max(np.abs(got - want)[seen] / want[seen]) < 0.01
 
 
+def rays_inside(dirs, tris):
+    """Unit rays sampled inside each flat triangle (edges and corners included): the normalised convex
+    combinations of its vertices, (m * k, 3)."""
+    w = np.random.default_rng(1).dirichlet(np.ones(3), 40)
+    w = np.concatenate([w, np.eye(3), [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]]])
+    rays = np.einsum("kj,tjc->tkc", w, dirs[tris]).reshape(-1, 3)
+    return rays / np.linalg.norm(rays, axis=1, keepdims=True)
+
+
+@pytest.mark.parametrize("altitude", [1e5, 1e6, 1.9e7, 1e9, 1e12])
+@pytest.mark.parametrize("sun_from_nadir", [0.0, 10.0, 60.0, 120.0, 179.9, 180.0])
+def test_culling_empty_space_drops_no_ray_to_the_atmosphere_or_the_sun(altitude, sun_from_nadir):
+    # Triangles whose rays all miss the top of the atmosphere and the sun's disc are not drawn (the background is
+    # black): rays sampled inside every dropped triangle must miss both, for cameras above the atmosphere and the
+    # sun anywhere, including the nadir itself (behind the planet) and straight away from it, where the mesh's
+    # sun refinement degenerates.
+    atm = load_atmosphere("earth")
+    R, top = atm.bottom_radius_m, atm.top_radius_m
+    cam = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]) * (R + altitude)
+    down = -cam / np.linalg.norm(cam)
+    side = np.cross(down, [1.0, 0.0, 0.0])
+    side /= np.linalg.norm(side)
+    a = np.radians(sun_from_nadir)
+    sun = np.cos(a) * down + np.sin(a) * side
+    dirs, tris = direction_mesh(cam, sun, R, top)
+    radius = np.radians(0.2666)
+    kept = may_meet_sphere(dirs, tris, cam, top) | may_meet_disc(dirs, tris, sun, radius)
+    assert 0 < np.count_nonzero(kept) < len(tris)
+    rays = rays_inside(dirs, tris[~kept])
+    assert np.all(np.isinf(distance_to_ground(np.broadcast_to(cam, rays.shape), rays, top)))
+    assert np.all(rays @ sun < np.cos(radius))
+    # The mesh has a vertex in the disc, and the triangles around it are drawn.
+    centre = np.argmax(dirs @ sun)
+    assert dirs[centre] @ sun > np.cos(radius) and np.any(tris[kept] == centre)
+
+
+def test_sphere_and_disc_tests_are_conservative_on_coarse_meshes():
+    # The margins of may_meet_sphere (an edge dipping inside the cone) and may_meet_disc (a disc inside a
+    # triangle away from its vertices) matter where triangles are large: on coarse meshes (6 rings, 8 sectors),
+    # with the disc away from the mesh's refinement and the sphere anywhere from a grazing to a wide cone, every
+    # ray inside a rejected triangle must miss the sphere and the disc.
+    rng = np.random.default_rng(7)
+    R = 6.36e6
+    for _ in range(60):
+        cam = rng.normal(size=3)
+        cam *= R * np.exp(rng.uniform(np.log(1.001), np.log(50.0))) / np.linalg.norm(cam)
+        mesh_sun, disc = (v / np.linalg.norm(v) for v in rng.normal(size=(2, 3)))
+        dirs, tris = direction_mesh(cam, mesh_sun, R, 1.01 * R, rings=6, sectors=8)
+        radius = np.radians(rng.uniform(0.3, 10.0))
+        sphere = R * rng.uniform(0.5, 1.0)
+        rays = rays_inside(dirs, tris[~may_meet_sphere(dirs, tris, cam, sphere)])
+        assert np.all(np.isinf(distance_to_ground(np.broadcast_to(cam, rays.shape), rays, sphere)))
+        assert np.all(rays_inside(dirs, tris[~may_meet_disc(dirs, tris, disc, radius)]) @ disc < np.cos(radius))
+
+
 @pytest.mark.parametrize("altitude", [2.0, 1e4, 1e5, 1.9e7, 1e9])
 def test_the_sky_part_of_the_mesh_holds_no_ray_to_the_ground(altitude):
     # The sky part's fragments leave out the ground's code, so any ray to the ground inside one of its triangles
@@ -70,12 +127,9 @@ def test_the_sky_part_of_the_mesh_holds_no_ray_to_the_ground(altitude):
     cam = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]) * (R + altitude)
     sun = np.array([0.0, 0.6, 0.8])
     dirs, tris = direction_mesh(cam, sun, R, atm.top_radius_m)
-    sky = tris[~may_see_ground(dirs, tris, cam, R)]
+    sky = tris[~may_meet_sphere(dirs, tris, cam, R)]
     assert len(sky) > 0.3 * len(tris)
-    w = np.random.default_rng(1).dirichlet(np.ones(3), 40)
-    w = np.concatenate([w, [[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]]])
-    rays = np.einsum("kj,tjc->tkc", w, dirs[sky]).reshape(-1, 3)
-    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+    rays = rays_inside(dirs, sky)
     assert np.all(np.isinf(distance_to_ground(np.broadcast_to(cam, rays.shape), rays, R)))
 
 
@@ -91,7 +145,8 @@ def test_culling_to_the_view_leaves_no_pixel_uncovered(vertex, heading, pitch, f
     dirs, tris = direction_mesh(vertex.camera_location, vertex.sun_direction, vertex.atmosphere.bottom_radius_m,
                                 vertex.atmosphere.top_radius_m)
     assert np.all(np.isclose(np.linalg.norm(dirs, axis=1), 1.0)) and np.dot(forward, forward) > 0.99
-    assert np.count_nonzero(in_view(dirs, tris, *(vertex.planet.uniforms()[k][1] for k in
+    view = camera_uniforms(vertex.renderer)
+    assert np.count_nonzero(in_view(dirs, tris, *(view[k][1] for k in
                                                   ("camera_forward", "camera_right", "camera_up")))) < len(tris)
 
 

@@ -24,7 +24,8 @@ from ..color import albedo_matrix
 from ..tables.parameterization import MU_S_MIN
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pack_2d, pack_3d, pad_groups, upload
-from .uniforms import DisplaySettings, atmosphere_uniforms, draw_uniforms, set_uniform
+from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camera_uniforms, draw_uniforms,
+                       frame_key)
 
 #: The GLSL both table-based actors share, in order (each file declares what the later ones use).
 TABLE_SHADERS = ("common.glsl", "atmosphere_functions.glsl", "atmosphere_ray.glsl")
@@ -72,7 +73,7 @@ class TableTextures:
                 "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half)}
             surface = self.surface if self.surface is not None else np.zeros((1, 1, 3), np.uint8)
             self._textures["surface_texture"] = upload(render_window, np.ascontiguousarray(surface[::-1]),
-                                                       repeat_x=True)
+                                                       repeat_x=True, srgb=True)
         for name, tex in self._textures.items():
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())
@@ -103,7 +104,6 @@ class AtmosphereActor:
         self.settings = settings or DisplaySettings()
         self.sun_direction = np.array([1.0, 0.0, 0.0])
         self.textures = TableTextures(atmosphere, tables, surface, half_float_tables)
-        self._static = self._static_uniforms()
 
         # The shell: vertices at radius top / cos(edge angle) keep every flat triangle outside the top sphere.
         sphere = vtkSphereSource()
@@ -127,25 +127,34 @@ class AtmosphereActor:
         sp.AddFragmentShaderReplacement("//VTK::Light::Dec", True, code, False)
         sp.AddFragmentShaderReplacement("//VTK::Light::Impl", True,
                                         "gl_FragData[0] = atmosphere_fragment();\n", False)
+        self._store = UniformStore(sp)
+        self._frame_key = None
+        self._store.update(self.static_uniforms())
         self.mapper.AddObserver(vtkCommand.UpdateShaderEvent, self._update_shader)
-        self._end_observer = renderer.AddObserver(vtkCommand.EndEvent, self._deactivate)
+        self._observers = [renderer.AddObserver(vtkCommand.StartEvent, self._start_frame),
+                           renderer.AddObserver(vtkCommand.EndEvent, self._deactivate)]
 
-    def _static_uniforms(self):
+    def static_uniforms(self):
         return self.textures.static_uniforms()
+
+    def _start_frame(self, caller=None, event=None):
+        key = frame_key(self.renderer, self.sun_direction, self.settings)
+        if key != self._frame_key:
+            self._frame_key = key
+            self._store.update(draw_uniforms(camera_uniforms(self.renderer), self.sun_direction, self.settings))
 
     @calldata_type(VTK_OBJECT)
     def _update_shader(self, caller, event, program=None):
-        if program is None:
-            return
-        self.textures.bind(program, self.renderer.GetRenderWindow())
-        for name, (kind, value) in {**self._static,
-                                    **draw_uniforms(self.renderer, self.sun_direction, self.settings)}.items():
-            set_uniform(program, name, kind, value)
+        if program is not None:
+            self._store.set_arrays(program)
+            self.textures.bind(program, self.renderer.GetRenderWindow())
 
     def _deactivate(self, caller=None, event=None):
         self.textures.deactivate()
 
     def release(self):
         """Stop following the renderer and free the GPU textures (call before the window closes)."""
-        self.renderer.RemoveObserver(self._end_observer)
+        for tag in self._observers:
+            self.renderer.RemoveObserver(tag)
+        self._observers = []
         self.textures.release(self.renderer.GetRenderWindow())

@@ -21,7 +21,7 @@ from vtkmodules.vtkCommonCore import VTK_OBJECT, vtkCommand, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkRenderingCore import vtkActor, vtkAssembly, vtkPolyDataMapper
 
-from .uniforms import camera_uniforms, set_uniform
+from .uniforms import DisplaySettings, UniformStore, camera_uniforms, frame_key
 
 #: Degrees around the sun and around the limb where the mesh is refined.
 SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
@@ -76,31 +76,58 @@ def in_view(dirs, tris, forward, right, up):
     and ``up`` scaled by the tangents of the half fields of view, as in :func:`camera_uniforms`). The sides are
     planes through the camera, so a flat triangle with its three vertices beyond one of them is beyond it whole."""
     forward = np.asarray(forward, dtype=float)
-    keep = np.ones(len(tris), bool)
-    for side in (right, -np.asarray(right), up, -np.asarray(up)):
-        side = np.asarray(side, dtype=float)
-        normal = side / np.dot(side, side) - forward       # d . normal > 0: beyond this side
-        keep &= ~np.all((dirs @ normal)[tris] > 0.0, axis=1)
-    return keep
+    sides = [np.asarray(v, dtype=float) for v in (right, up)]
+    normals = np.stack([side / np.dot(side, side) - forward for v in sides for side in (v, -v)], axis=1)
+    # One bit per side for each vertex; a triangle is out when its three vertices share a bit.
+    beyond = ((dirs @ normals) > 0.0).astype(np.uint8) @ np.array([1, 2, 4, 8], np.uint8)
+    return (np.take(beyond, tris[:, 0]) & np.take(beyond, tris[:, 1]) & np.take(beyond, tris[:, 2])) == 0
 
 
-def may_see_ground(dirs, tris, camera, bottom):
-    """(m,) bool: the triangles of the direction mesh around ``camera`` that may contain rays to the ground: a
-    vertex inside the cone of the planet's limb, or within the largest distance [rad] by which a triangle's edge
-    between two vertices outside the cone can dip inside it (the edges are great-circle arcs, the cone's edge a
-    small circle), plus 1e-3 rad."""
+def _corners(tris):
+    """The three corner index columns of ``tris``, contiguous (np.take of those is several times faster than
+    fancy indexing, and the mesh is rebuilt every frame of a moving camera)."""
+    return [np.ascontiguousarray(tris[:, k]) for k in range(3)]
+
+
+def _longest_edges(dirs, corners):
+    """(m,) the longest edge of each triangle as a chord between unit vectors (chord^2 = 2 - 2 cos)."""
+    a, b, c = (np.take(dirs, k, axis=0) for k in corners)
+    least_cos = np.minimum(np.minimum(np.einsum("ij,ij->i", a, b), np.einsum("ij,ij->i", b, c)),
+                           np.einsum("ij,ij->i", c, a))
+    return np.sqrt(np.maximum(2.0 - 2.0 * least_cos, 0.0))
+
+
+def may_meet_sphere(dirs, tris, camera, radius):
+    """(m,) bool: the triangles of the direction mesh around ``camera`` that may contain rays meeting the sphere
+    of ``radius`` about the planet's centre (the ground, or the top of the atmosphere): a vertex inside the
+    sphere's cone, or within the largest distance [rad] by which a triangle's edge between two vertices outside
+    the cone can dip inside it (the edges are great-circle arcs, the cone's edge a small circle), plus 1e-3 rad."""
     camera = np.asarray(camera, dtype=float)
     r = np.linalg.norm(camera)
-    if r <= bottom:
+    if r <= radius:
         return np.ones(len(tris), bool)
-    limb = math.asin(bottom / r)
+    limb = math.asin(radius / r)
     theta = np.arccos(np.clip(dirs @ (-camera / r), -1.0, 1.0))
-    # Longest edge of each triangle as half an azimuthal span on the limb's circle, then the dip of an arc of that
-    # span: tan(theta_mid) = tan(limb) cos(half span).
-    chord = np.max(np.linalg.norm(dirs[tris] - dirs[np.roll(tris, 1, axis=1)], axis=-1), axis=1)
-    half = np.arcsin(np.clip(chord / (2 * math.sin(limb)), 0.0, 1.0))
+    corners = _corners(tris)
+    # The longest edge as half an azimuthal span on the cone's circle, then the dip of an arc of that span:
+    # tan(theta_mid) = tan(limb) cos(half span).
+    half = np.arcsin(np.clip(_longest_edges(dirs, corners) / (2 * math.sin(limb)), 0.0, 1.0))
     dip = limb - np.arctan(math.tan(min(limb, math.pi / 2 - 1e-9)) * np.cos(half))
-    return np.min(theta[tris], axis=1) <= limb + dip + 1e-3
+    least_theta = np.minimum(np.minimum(np.take(theta, corners[0]), np.take(theta, corners[1])),
+                             np.take(theta, corners[2]))
+    return least_theta <= limb + dip + 1e-3
+
+
+def may_meet_disc(dirs, tris, direction, radius):
+    """(m,) bool: the triangles that may contain directions within ``radius`` [rad] of the unit ``direction``
+    (the sun's disc): any point of a triangle lies within its longest edge of a vertex, so a triangle meeting
+    the disc has a vertex within ``radius`` + that edge (as angles, plus 1e-3 rad)."""
+    corners = _corners(tris)
+    cos_to = np.clip(dirs @ np.asarray(direction, dtype=float), -1.0, 1.0)
+    nearest = np.maximum(np.maximum(np.take(cos_to, corners[0]), np.take(cos_to, corners[1])),
+                         np.take(cos_to, corners[2]))
+    reach = radius + 2.0 * np.arcsin(np.minimum(_longest_edges(dirs, corners) / 2.0, 1.0)) + 1e-3
+    return np.arccos(nearest) <= reach
 
 
 def _points(points):
@@ -129,19 +156,22 @@ class DirectionMeshActor:
     ``split_at_limb``: draw the triangles that may contain rays to the ground and the others (sky only) as two
     parts of a ``vtkAssembly``, each with its own shader program; ``fragment_code`` then sees the constant
     ``sky_part`` (true in the second), so the sky's fragments do not pay for the ground's code (a software
-    renderer runs both sides of a branch). Subclasses give :meth:`uniforms` (set for every draw) and may bind
-    textures in :meth:`bind`. ``directions``: fixed unit directions (n, 3) drawn as points instead of the
+    renderer runs both sides of a branch). Subclasses give :meth:`static_uniforms` (set once) and
+    :meth:`frame_uniforms` (set before each frame, where they changed) and may bind textures in :meth:`bind`
+    (called for every draw). ``directions``: fixed unit directions (n, 3) drawn as points instead of the
     adaptive mesh (for tests that need one vertex per pixel)."""
 
     def __init__(self, atmosphere, renderer, vertex_code, vertex_call, fragment_code, fragment_call,
-                 split_at_limb=False):
+                 split_at_limb=False, settings=None):
         self.atmosphere = atmosphere
         self.renderer = renderer
         self.sun_direction = np.array([1.0, 0.0, 0.0])
         self.directions = None
         self.split_at_limb = split_at_limb
-        self._mesh_key = None
-        self.mappers, actors = [], []
+        self.settings = settings or DisplaySettings()
+        self._mesh_key = self._frame_key = None
+        self.mappers, actors, self._stores = [], [], []
+        static = self.static_uniforms()
         for prefix in (("const bool sky_part = false;\n", "const bool sky_part = true;\n") if split_at_limb
                        else ("",)):
             mapper = vtkPolyDataMapper()
@@ -159,7 +189,10 @@ class DirectionMeshActor:
             sp.AddFragmentShaderReplacement("//VTK::Light::Dec", True, prefix + fragment_code, False)
             sp.AddFragmentShaderReplacement("//VTK::Light::Impl", True, f"gl_FragData[0] = {fragment_call}();\n",
                                             False)
-            mapper.AddObserver(vtkCommand.UpdateShaderEvent, self._update_shader)
+            store = UniformStore(sp)
+            store.update(static)
+            mapper.AddObserver(vtkCommand.UpdateShaderEvent, self._shader_observer(store))
+            self._stores.append(store)
             self.mappers.append(mapper)
             actors.append(actor)
         self.mapper = self.mappers[0]
@@ -169,7 +202,7 @@ class DirectionMeshActor:
                 self.actor.AddPart(actor)
         else:
             self.actor = actors[0]
-        self._observers = [renderer.AddObserver(vtkCommand.StartEvent, self._update_mesh)]
+        self._observers = [renderer.AddObserver(vtkCommand.StartEvent, self._start_frame)]
 
     def release(self):
         """Stop following the renderer (call when the actor is taken out of the scene)."""
@@ -177,17 +210,30 @@ class DirectionMeshActor:
             self.renderer.RemoveObserver(tag)
         self._observers = []
 
-    def uniforms(self):
-        """{name: (kind, value)} of the uniforms to set for the next draw."""
+    def static_uniforms(self):
+        """{name: (kind, value)} of the uniforms that stay as they are for the actor's life."""
+        raise NotImplementedError
+
+    def frame_uniforms(self, view):
+        """{name: (kind, value)} of the uniforms of the next frame; ``view``: :func:`camera_uniforms`."""
         raise NotImplementedError
 
     def bind(self, program):
         """Activate textures and set their sampler uniforms (none here)."""
 
-    def _update_mesh(self, caller=None, event=None):
-        camera = self.renderer.GetActiveCamera()
-        cam = np.array(camera.GetPosition())
+    def _start_frame(self, caller=None, event=None):
+        key = (frame_key(self.renderer, self.sun_direction, self.settings), id(self.directions))
+        if key == self._frame_key:
+            return
+        self._frame_key = key
         view = camera_uniforms(self.renderer)
+        self._update_mesh(view)
+        frame = self.frame_uniforms(view)
+        for store in self._stores:
+            store.update(frame)
+
+    def _update_mesh(self, view):
+        cam = view["camera_position"][1]
         key = (tuple(cam), tuple(self.sun_direction), None if self.directions is None else id(self.directions),
                tuple(np.concatenate([view[name][1] for name in ("camera_forward", "camera_right", "camera_up")])))
         if key == self._mesh_key:
@@ -203,9 +249,15 @@ class DirectionMeshActor:
             dirs, tris = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m)
             tris = tris[in_view(dirs, tris, *(view[name][1] for name in ("camera_forward", "camera_right",
                                                                           "camera_up")))]
+            # Rays that miss the atmosphere and the sun's disc stay black, the background's colour: their
+            # triangles are not drawn (from space, most of the frame).
+            sun_radius = math.radians(self.settings.sun_angular_radius_deg)
+            tris = tris[may_meet_sphere(dirs, tris, cam, self.atmosphere.top_radius_m)
+                        | may_meet_disc(dirs, tris, self.sun_direction / np.linalg.norm(self.sun_direction),
+                                        sun_radius)]
             points = _points(cam + distance * dirs)
             if self.split_at_limb:
-                ground = may_see_ground(dirs, tris, cam, bottom)
+                ground = may_meet_sphere(dirs, tris, cam, bottom)
                 parts = [_polydata(points, tris[ground], "polys"), _polydata(points, tris[~ground], "polys")]
             else:
                 parts = [_polydata(points, tris, "polys")]
@@ -213,10 +265,11 @@ class DirectionMeshActor:
             mapper.SetInputData(part)
         self.renderer.ResetCameraClippingRange()
 
-    @calldata_type(VTK_OBJECT)
-    def _update_shader(self, caller, event, program=None):
-        if program is None:
-            return
-        self.bind(program)
-        for name, (kind, value) in self.uniforms().items():
-            set_uniform(program, name, kind, value)
+    def _shader_observer(self, store):
+        """The observer of one part's UpdateShaderEvent: its array uniforms and the textures, for each draw."""
+        @calldata_type(VTK_OBJECT)
+        def update_shader(caller, event, program=None):
+            if program is not None:
+                store.set_arrays(program)
+                self.bind(program)
+        return update_shader

@@ -12,7 +12,7 @@ from ..fallback import SAMPLING, _coefficients, check_settings
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pad_groups
-from .uniforms import OUTPUT_MODES, TONE_MAPPINGS, DisplaySettings, atmosphere_uniforms, groups_array
+from .uniforms import OUTPUT_MODES, TONE_MAPPINGS, atmosphere_uniforms, groups_array
 
 MAX_COMPONENTS = 6
 PROFILE_TABLE_SIZE = 64
@@ -28,13 +28,11 @@ class FallbackActor(DirectionMeshActor):
                  settings=None):
         self.samples, self.density_samples = check_settings(samples, density_samples, sampling, terms)
         self.atmosphere = atmosphere
-        self.settings = settings or DisplaySettings()
         self.sampling, self.terms = sampling, terms
-        self._static = self._static_uniforms()
         super().__init__(atmosphere, renderer, shader_code("common.glsl", "fallback_vertex.glsl"), "fallback_vertex",
-                         shader_code("display.glsl", "fallback_fragment.glsl"), "fallback_fragment")
+                         shader_code("display.glsl", "fallback_fragment.glsl"), "fallback_fragment", settings=settings)
 
-    def _static_uniforms(self):
+    def static_uniforms(self):
         atm = self.atmosphere
         G = group_count(atm.n_wavelengths)
         b_r, b_m, extinction = _coefficients(atm, self.terms)
@@ -67,10 +65,9 @@ class FallbackActor(DirectionMeshActor):
             "artistic_terms": ("i", int(self.terms == "artistic")),
         }
 
-    def uniforms(self):
+    def frame_uniforms(self, view):
         s = self.settings
-        cam = np.array(self.renderer.GetActiveCamera().GetPosition())
-        return {**self._static, "camera_position": ("3f", cam),
+        return {"camera_position": view["camera_position"],
                 "sun_direction": ("3f", self.sun_direction / np.linalg.norm(self.sun_direction)),
                 "output_mode": ("i", OUTPUT_MODES[s.output_mode]), "output_triple": ("i", s.output_triple),
                 "exposure": ("f", s.exposure), "tone_mapping": ("i", TONE_MAPPINGS[s.tone_mapping])}

@@ -46,12 +46,16 @@ def pack_3d(table):
 
 #: OpenGL internal format of half-float RGBA textures (for the precision and speed comparison only).
 GL_RGBA16F = 0x881A
+#: OpenGL internal format of sRGB-encoded 8-bit RGB textures, decoded to linear by the GPU before filtering.
+GL_SRGB8 = 0x8C41
 
 
-def upload(render_window, image, repeat_x=False, half_float=False):
+def upload(render_window, image, repeat_x=False, half_float=False, srgb=False):
     """A ``vtkTextureObject`` holding ``image``: (h, w, c) -> 2D, (d, h, w, c) -> 3D; float32 or uint8 data;
     linear filtering, clamped to the edge (``repeat_x``: wrap along x, for a longitude axis). ``half_float``
-    stores float data as 16-bit floats on the GPU (benchmarks/gpu_render_timing.py compares the two)."""
+    stores float data as 16-bit floats on the GPU (benchmarks/gpu_render_timing.py compares the two); ``srgb``:
+    (h, w, 3) uint8 sRGB-encoded colours, which the GPU decodes to linear (exactly, from the 8-bit values) before
+    it filters them."""
     from vtkmodules.vtkCommonCore import VTK_FLOAT, VTK_UNSIGNED_CHAR
     from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
     data = np.ascontiguousarray(image)
@@ -60,6 +64,8 @@ def upload(render_window, image, repeat_x=False, half_float=False):
     tex.SetContext(render_window)
     if half_float:
         tex.SetInternalFormat(GL_RGBA16F)
+    if srgb:
+        tex.SetInternalFormat(GL_SRGB8)
     if data.ndim == 3:
         h, w, c = data.shape
         ok = tex.Create2DFromRaw(w, h, c, kind, data)

@@ -1,5 +1,5 @@
 """Uniforms shared by the actors: display settings, the atmosphere's constants, the camera (in double precision)
-and the typed setter."""
+and the store that hands them to VTK."""
 from __future__ import annotations
 
 import math
@@ -73,12 +73,12 @@ def camera_uniforms(renderer):
             "camera_up": ("3f", up * tan_v), "viewport": ("4f", (x0 * w, y0 * h, vw, vh))}
 
 
-def draw_uniforms(renderer, sun_direction, settings):
-    """The per-draw uniforms of the table-based actors: the camera's (double precision), the sun and the display
-    settings."""
+def draw_uniforms(view, sun_direction, settings):
+    """The per-frame uniforms of the table-based actors: the camera's (``view``, :func:`camera_uniforms`), the
+    sun and the display settings."""
     cos_radius = math.cos(math.radians(settings.sun_angular_radius_deg))
     return {
-        **camera_uniforms(renderer),
+        **view,
         "sun_direction": ("3f", sun_direction / np.linalg.norm(sun_direction)),
         "sun_cos_radius": ("f", cos_radius), "sun_solid_angle": ("f", 2 * math.pi * (1 - cos_radius)),
         "show_sun": ("i", int(settings.show_sun)),
@@ -94,23 +94,59 @@ def groups_array(values):
     return out
 
 
-def set_uniform(program, name, kind, value):
-    if kind == "f":
-        program.SetUniformf(name, float(value))
-    elif kind == "i":
-        program.SetUniformi(name, int(value))
-    elif kind == "2f":
-        program.SetUniform2f(name, [float(v) for v in value])
-    elif kind == "3f":
-        program.SetUniform3f(name, [float(v) for v in value])
-    elif kind == "4f":
-        program.SetUniform4f(name, [float(v) for v in value])
-    elif kind == "1fv":
-        arr = np.ascontiguousarray(value, dtype=np.float32)
-        program.SetUniform1fv(name, len(arr), arr)
-    elif kind == "3fv":
-        arr = np.ascontiguousarray(value, dtype=np.float32)
-        program.SetUniform3fv(name, len(arr), arr.ravel())
-    else:
-        arr = np.ascontiguousarray(value, dtype=np.float32)
-        program.SetUniform4fv(name, len(arr), arr.ravel())
+class UniformStore:
+    """The uniforms of one actor's shader program, written from Python only when they change.
+
+    Single values go to the shader property's custom uniforms (``vtkUniforms``), which VTK sets in C++ before
+    each draw: the constants are written once, the camera and the sun once per frame. Arrays (kinds 1fv, 3fv,
+    4fv: all constants) are kept as float32 buffers and set on the program by :meth:`set_arrays` for each draw,
+    because ``vtkUniforms``' Python wrapping cannot take arrays of vectors (the overloads of its generic setter
+    are ambiguous from Python).
+
+    The shader code (shaders/*.glsl) declares and documents every uniform itself, so VTK's own declarations
+    (``//VTK::CustomUniforms::Dec``) are removed from both stages."""
+
+    def __init__(self, shader_property):
+        shader_property.AddVertexShaderReplacement("//VTK::CustomUniforms::Dec", True, "", False)
+        shader_property.AddFragmentShaderReplacement("//VTK::CustomUniforms::Dec", True, "", False)
+        self.uniforms = shader_property.GetFragmentCustomUniforms()
+        self._values = {}
+        self._arrays = {}
+        self._arrays_set_on = None
+
+    def update(self, uniforms):
+        """Take {name: (kind, value)} (kinds f, i, 2f, 3f, 4f, 1fv, 3fv, 4fv), writing the values that changed."""
+        for name, (kind, value) in uniforms.items():
+            if kind.endswith("fv"):
+                self._arrays[name] = (kind, np.ascontiguousarray(value, dtype=np.float32).ravel())
+                self._arrays_set_on = None
+                continue
+            value = float(value) if kind == "f" else int(value) if kind == "i" else tuple(map(float, value))
+            if self._values.get(name) == value:
+                continue
+            self._values[name] = value
+            setter = {"f": self.uniforms.SetUniformf, "i": self.uniforms.SetUniformi,
+                      "2f": self.uniforms.SetUniform2f, "3f": self.uniforms.SetUniform3f,
+                      "4f": self.uniforms.SetUniform4f}[kind]
+            setter(name, value)
+
+    def set_arrays(self, program):
+        """Set the array uniforms on ``program`` (a ``vtkShaderProgram`` about to draw), unless they were set on
+        this program since it was last linked (a relinked or new program has a new handle and modification time)."""
+        key = (program.GetHandle(), program.GetMTime())
+        if key == self._arrays_set_on:
+            return
+        for name, (kind, values) in self._arrays.items():
+            width = int(kind[0])
+            getattr(program, f"SetUniform{kind}")(name, values.size // width, values)
+        self._arrays_set_on = key
+
+
+def frame_key(renderer, sun_direction, settings):
+    """What the per-frame uniforms depend on, read without NumPy: the camera, the viewport's size in pixels, the
+    sun and the display settings. The actors recompute their frame (camera uniforms, direction mesh) only when it
+    changes."""
+    cam = renderer.GetActiveCamera()
+    return (cam.GetPosition(), cam.GetFocalPoint(), cam.GetViewUp(), cam.GetViewAngle(),
+            cam.GetUseHorizontalViewAngle(), renderer.GetViewport(), renderer.GetRenderWindow().GetActualSize(),
+            tuple(sun_direction), tuple(vars(settings).values()))

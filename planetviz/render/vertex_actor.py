@@ -15,7 +15,7 @@ from vtkmodules.vtkCommonCore import vtkCommand
 from .atmosphere_actor import TABLE_SHADERS, TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
-from .uniforms import DisplaySettings, draw_uniforms
+from .uniforms import draw_uniforms
 
 
 class VertexAtmosphereActor(DirectionMeshActor):
@@ -24,23 +24,21 @@ class VertexAtmosphereActor(DirectionMeshActor):
 
     def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, half_float_tables=False):
         self.tables = tables
-        self.settings = settings or DisplaySettings()
         self.textures = TableTextures(atmosphere, tables, surface, half_float_tables)
-        self._static = self._static_uniforms()
         super().__init__(atmosphere, renderer, shader_code(*TABLE_SHADERS, "atmosphere_vertex.glsl"),
                          "atmosphere_vertex",
                          shader_code(*TABLE_SHADERS, "display.glsl", "pixel.glsl", "atmosphere_interpolated.glsl"),
-                         "atmosphere_interpolated", split_at_limb=True)
+                         "atmosphere_interpolated", split_at_limb=True, settings=settings)
         self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.textures.deactivate()))
 
-    def _static_uniforms(self):
+    def static_uniforms(self):
         return self.textures.static_uniforms()
 
     def bind(self, program):
         self.textures.bind(program, self.renderer.GetRenderWindow())
 
-    def uniforms(self):
-        return {**self._static, **draw_uniforms(self.renderer, np.asarray(self.sun_direction), self.settings)}
+    def frame_uniforms(self, view):
+        return draw_uniforms(view, np.asarray(self.sun_direction), self.settings)
 
     def release(self):
         """Stop following the renderer and free the GPU textures (call before the window closes)."""
