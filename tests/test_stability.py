@@ -1,5 +1,6 @@
 """Numerical stability under stress (issue 7, first part): generated cameras, views and suns anywhere the API
-accepts them, plus the fixed worst cases, for the table evaluator and the quick-view integrator.
+accepts them, plus the fixed worst cases, for the table evaluator, the quick-view integrator and the reference
+solver.
 
 Two hypothesis profiles: the default run draws ``FAST`` examples per property; ``pytest -m slow`` (CI runs it
 too) repeats the properties with ``LONG`` examples. Counts and findings: docs/stability.md.
@@ -14,6 +15,8 @@ from hypothesis import strategies as st
 
 from planetviz import load_atmosphere
 from planetviz.fallback import fallback_radiance
+from planetviz.reference import solve
+from planetviz.reference.single import single_scattering
 from planetviz.tables import QUALITY, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_transmittance
@@ -59,6 +62,55 @@ def random_rays(n_examples):
 
 test_random_rays_give_finite_non_negative_radiance = random_rays(FAST)
 test_random_rays_long = pytest.mark.slow(random_rays(LONG))
+
+
+def _aimed(r, up, other, kind):
+    """A view from radius ``r`` (unit ``up``): along ``other`` (made unit), or exactly tangent to the ground or to
+    the top of the atmosphere (where the camera is outside that sphere), or straight up or down."""
+    if kind in ("up", "down"):
+        return up if kind == "up" else -up
+    side = other - (other @ up) * up
+    if np.linalg.norm(side) < 1e-6:
+        side = np.cross(up, [1.0, 0.0, 0.0] if abs(up[0]) < 0.9 else [0.0, 1.0, 0.0])
+    side /= np.linalg.norm(side)
+    radius = {"tangent to the ground": R, "tangent to the top": TOP}.get(kind)
+    if radius is None or r <= radius:
+        return other
+    mu = -np.sqrt(1.0 - (radius / r) ** 2)
+    return mu * up + np.sqrt(1.0 - mu * mu) * side
+
+
+def reference_rays(n_examples):
+    @settings(max_examples=n_examples, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+    @given(alt=altitudes, up=unit, view=unit, sun=unit,
+           kind=st.sampled_from(["random", "tangent to the ground", "tangent to the top", "up", "down"]),
+           special=st.sampled_from(["random", "sun", "anti-sun", "zenith", "horizon", "behind the planet"]))
+    def check(alt, up, view, sun, kind, special):
+        # The reference solver anywhere: its Monte Carlo estimate (single scattering and the directly lit ground
+        # only) against the deterministic single-scattering quadrature of reference/single.py, two independent
+        # computations of the same integral. Bound: 5 standard errors of the estimate (a false alarm once in
+        # ~1e6 draws per wavelength) plus 1e-3 relative (the quadratures' own errors, under 1e-4) plus 1e-9
+        # absolute (both are exactly 0 on rays that miss the atmosphere). Radiance finite and >= 0, view
+        # transmittance in [0, 1].
+        r = R + alt
+        view = _aimed(r, up, view, kind)
+        sun = {"sun": view, "anti-sun": -view, "zenith": up, "behind the planet": -up,
+               "horizon": sun - (sun @ up) * up}.get(special, sun)
+        if np.linalg.norm(sun) < 1e-6:
+            return
+        sun = sun / np.linalg.norm(sun)
+        mc = solve(EARTH, [r * up], [view], sun, samples=1024, seed=1, max_order=1)
+        scatter, ground = single_scattering(EARTH, [r * up], [view], sun)
+        exact = scatter + ground
+        _check(mc.radiance, mc.transmittance)
+        _check(exact, mc.transmittance)
+        assert np.all(np.abs(mc.radiance - exact) <= 5 * mc.stderr + 1e-3 * exact + 1e-9), (mc.radiance, mc.stderr,
+                                                                                                exact)
+    return check
+
+
+test_reference_solver_under_generated_input = reference_rays(20)
+test_reference_solver_under_generated_input_long = pytest.mark.slow(reference_rays(300))
 
 
 def worst_cases():
