@@ -182,6 +182,49 @@ def test_transmittance_never_increases_along_a_ray(alt, mu):
     assert np.all(np.diff(t, axis=0) <= 1e-2)
 
 
+def _single_scattering_error(alt, mus):
+    """Per ray, the largest relative error over the wavelengths of the draft tables' single scattering and
+    directly lit ground (the multiple-scattering and sky-irradiance tables set to 0) against the deterministic
+    quadrature of reference/single.py, from altitude ``alt`` at view cosines ``mus``, 5 azimuths and the sun at
+    5, 20 and 60 deg."""
+    single = replace(TABLES, multiple=np.zeros_like(TABLES.multiple), multiple_mie=np.zeros_like(TABLES.multiple_mie),
+                     irradiance=np.zeros_like(TABLES.irradiance))
+    mu, az, el = (a.ravel() for a in np.meshgrid(mus, np.radians([0, 45, 90, 135, 180]), np.radians([5, 20, 60]),
+                                                 indexing="ij"))
+    views = np.stack([np.sqrt(1 - mu ** 2) * np.cos(az), np.sqrt(1 - mu ** 2) * np.sin(az), mu], 1)
+    suns = np.stack([np.cos(el), np.zeros_like(el), np.sin(el)], 1)
+    cams = np.tile([0.0, 0.0, R + alt], (len(mu), 1))
+    got, _ = sky_radiance(single, EARTH, cams, views, suns)
+    scatter, ground = single_scattering(EARTH, cams, views, suns)
+    want = scatter + ground
+    return np.max(np.abs(got - want) / want, axis=1)
+
+
+def _seam_xfail(alt, measured):
+    return pytest.param(alt, marks=pytest.mark.xfail(strict=True, reason=(
+        f"HORIZON_SEAM: from {alt:g} m the tables' error next to the horizon's direction is {measured} "
+        "(docs/stability.md)")))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("alt", [_seam_xfail(2.0, "46% against 2% elsewhere"),
+                                 _seam_xfail(100.0, "26% against 4% elsewhere"), 1e3, 1e4,
+                                 _seam_xfail(3e4, "8.4% against 5.4% elsewhere"), 5e4])
+def test_no_seam_at_the_horizon_beyond_the_tables_interpolation_error(alt):
+    # Rays 1e-6 to 1e-2 (in mu) either side of the horizon's direction, where the tables switch between their
+    # ground and sky halves, against rays at least 0.05 away from it: the error there (single scattering against
+    # the reference quadrature, draft tables) is the tables' own interpolation error; next to the horizon it may
+    # not be larger. Slack 25%: the largest of ~100 errors is itself a sample statistic that moves by that much
+    # between sets of rays. Measured (draft): 2 m 46% / 2.0%, 100 m 26% / 3.7%, 1 km 2.7% / 2.5%, 10 km 2.8% /
+    # 2.4%, 30 km 8.4% / 5.4%, 50 km 15.6% / 12.7% (near / away).
+    mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
+    d = np.logspace(-6, -2, 9)
+    near = _single_scattering_error(alt, np.concatenate([mu_h - d, mu_h + d]))
+    away = _single_scattering_error(alt, np.concatenate([np.linspace(-1, mu_h - 0.05, 12),
+                                                         np.linspace(mu_h + 0.05, 1, 12)]))
+    assert near.max() <= 1.25 * away.max(), (near.max(), away.max())
+
+
 @pytest.mark.parametrize("camera, view, sun, word", [
     ([[0, 0, R + 2.0]], [[0, 0, 0.0]], [0, 0, 1.0], "view_dir[0]: zero vector"),
     ([[0, 0, R + 2.0]], [[np.nan, 0, 1.0]], [0, 0, 1.0], "view_dir[0]: contains NaN"),
@@ -284,44 +327,79 @@ def test_atmospheres_at_the_edges_give_finite_non_negative_radiance(name):
         _check(radiance, transmittance)
 
 
-def _conservative():
-    """Earth with nothing absorbed: no ozone, Mie extinction = scattering, a white ground (albedo 1)."""
+def _conservative(radius=None):
+    """Earth with nothing absorbed: no ozone, Mie extinction = scattering, a white ground (albedo 1); with
+    ``radius``, on a planet of that radius (the same 60 km of air)."""
     d = EARTH.to_dict()
-    d["name"] = "earth-conservative"
+    d["name"] = "earth-conservative" if radius is None else f"earth-conservative-{radius:g}"
     d["absorption"] = []
     d["mie"]["extinction_m"] = list(d["mie"]["scattering_m"])
     d["ground_albedo"] = [1.0] * len(d["wavelengths_nm"])
+    if radius is not None:
+        d["top_radius_m"] = radius + (d["top_radius_m"] - d["bottom_radius_m"])
+        d["bottom_radius_m"] = radius
     return type(EARTH).from_dict(d)
 
 
-def upward_flux_at_the_top(tables, atm, n=64):
-    """pi F_up / F_sun at the top of the atmosphere above the sub-solar point, per unit solar irradiance: the
-    radiance leaving the atmosphere, seen from 1 m below its top looking down, times |mu|, over the lower
-    hemisphere (the sun at the zenith makes it symmetric in azimuth): 2 pi int L(mu) |mu| dmu, Gauss-Legendre
-    on each side of the horizon's direction, where L steps from the ground to the limb."""
+def upward_flux_at_the_top(atm, radiance, n=64):
+    """(pi F_up / F_sun, its standard error) at the top of the atmosphere above the sub-solar point, per unit
+    solar irradiance: the radiance leaving the atmosphere, seen from 1 m below its top looking down, times |mu|,
+    over the lower hemisphere (the sun at the zenith makes it symmetric in azimuth): 2 pi int L(mu) |mu| dmu,
+    Gauss-Legendre on each side of the horizon's direction, where L steps from the ground to the limb.
+    ``radiance(cameras, views, sun)`` gives (radiance (n, W), standard error (n, W))."""
     r = atm.top_radius_m - 1.0
     mu_h = -np.sqrt(1.0 - (atm.bottom_radius_m / r) ** 2)
     x, w = np.polynomial.legendre.leggauss(n)
-    flux = np.zeros(atm.n_wavelengths)
+    flux, variance = np.zeros(atm.n_wavelengths), np.zeros(atm.n_wavelengths)
     for a, b in ((-1.0, mu_h), (mu_h, 0.0)):
         mu = 0.5 * (b - a) * x + 0.5 * (b + a)
         views = np.stack([np.sqrt(1 - mu ** 2), np.zeros_like(mu), mu], axis=1)
-        radiance, _ = sky_radiance(tables, atm, np.tile([0.0, 0.0, r], (n, 1)), views, [0.0, 0.0, 1.0])
-        flux += 2 * np.pi * 0.5 * (b - a) * (w[:, None] * radiance * np.abs(mu)[:, None]).sum(0)
-    return flux
+        value, error = radiance(np.tile([0.0, 0.0, r], (n, 1)), views, [0.0, 0.0, 1.0])
+        k = 2 * np.pi * 0.5 * (b - a) * (w * np.abs(mu))[:, None]
+        flux += (k * value).sum(0)
+        variance += ((k * error) ** 2).sum(0)
+    return flux, np.sqrt(variance)
+
+
+def _table_flux(atm):
+    tables = precompute(atm, replace(QUALITY["standard"], tolerance=1e-4))
+    assert tables.orders >= 10, tables.orders
+    return upward_flux_at_the_top(atm, lambda c, v, s: (sky_radiance(tables, atm, c, v, s)[0], 0.0))[0]
+
+
+def _reference_flux(atm):
+    """The same flux from the Monte Carlo reference solver (all orders, 16 directions per side, 4096 paths each:
+    a standard error of about 0.003)."""
+    def radiance(c, v, s):
+        res = solve(atm, c, v, s, samples=4096, seed=3)
+        return res.radiance, res.stderr
+    return upward_flux_at_the_top(atm, radiance, n=16)
 
 
 def test_energy_is_conserved_with_no_absorption_and_a_white_ground():
-    # With nothing absorbed and a white ground every photon of the sun's beam leaves the atmosphere again: above
-    # the sub-solar point the upward flux equals the incoming one (mu_0 F = 1 per unit irradiance), less the
-    # light carried sideways to where the sun is lower (a photon's excursions between ground and sky are tens of
-    # km against a 6,360 km radius: under 1e-3) and the orders left out (each stopped below 1e-4 of the total).
-    # More than 1 breaks conservation: upper bound 1.01 (the tables' own ~1% error). Measured: 0.978-0.985
-    # (draft, standard and high alike, the quadrature converged at 64 nodes): the tables lose 1.5-2.2% of the
-    # energy, a known defect (docs/stability.md); lower bound 0.97 keeps it from growing unnoticed.
-    atm = _conservative()
-    sizes = replace(QUALITY["standard"], tolerance=1e-4)
-    tables = precompute(atm, sizes)
-    flux = upward_flux_at_the_top(tables, atm)
-    assert tables.orders >= 10, tables.orders
-    assert np.all(flux <= 1.01) and np.all(flux >= 0.97), (flux, tables.orders)
+    # With nothing absorbed and a white ground every photon of the sun's beam leaves the atmosphere again. Above the
+    # sub-solar point of a sphere the upward flux is a little less than the incoming one (mu_0 F = 1 per unit
+    # irradiance): 2% of its weight leaves through grazing directions (|mu| < 0.14, between the ground's and the
+    # top's horizons), whose light was scattered along the limb, hundreds of km away where the sun is lower. The
+    # reference solver (independent Monte Carlo, tests/test_stability.py::test_energy_matches_the_reference_solver)
+    # gives 0.984 +- 0.002 at each wavelength; on a planet of radius 1e8 m, 1.001 +- 0.002 (conservation). The
+    # tables (standard, orders to 1e-4) give 0.984 / 0.984 / 0.978. Bounds: the reference +- 1% (the tables'
+    # own accuracy), i.e. 0.974-0.994; a table that created energy (> 1) or lost a few percent fails.
+    flux = _table_flux(_conservative())
+    assert np.all(flux <= 0.994) and np.all(flux >= 0.974), flux
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("radius", [
+    None,
+    pytest.param(1e8, marks=pytest.mark.xfail(strict=True, reason=(
+        "FLAT_PLANET_LOSES_ENERGY: on a planet of radius 1e8 m the tables' upward flux is 1.003 / 0.994 / 0.950 "
+        "where the reference gives 1.001 / 1.002 / 1.001 (+- 0.002): the shortest wavelength loses 5% "
+        "(docs/stability.md)")))])
+def test_energy_matches_the_reference_solver(radius):
+    # The upward flux of the conservative atmosphere from the tables against the Monte Carlo reference solver,
+    # two independent computations. Bound: 4 standard errors of the reference plus 1% (the tables' accuracy).
+    atm = _conservative(radius)
+    want, error = _reference_flux(atm)
+    got = _table_flux(atm)
+    assert np.all(np.abs(got - want) <= 4 * error + 0.01), (got, want, error)
