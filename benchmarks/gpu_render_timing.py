@@ -109,6 +109,22 @@ def camera_views(R):
             "1e9 m": ((1e9, 0, 0), (0, 0, 0), (0, 0, 1))}
 
 
+def offscreen_window(size):
+    """(window, renderer): an off-screen window of ``size`` ("WxH"), multisampling off, near plane tolerance
+    1e-6 (planetary scale)."""
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
+    w, h = (int(v) for v in size.split("x"))
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(w, h)
+    window.SetMultiSamples(0)
+    renderer = vtkRenderer()
+    renderer.SetNearClippingPlaneTolerance(1e-6)
+    window.AddRenderer(renderer)
+    return window, renderer
+
+
 def set_camera(renderer, position, target, up):
     cam = renderer.GetActiveCamera()
     cam.SetPosition(*position)
@@ -163,8 +179,6 @@ def textured_sphere(radius, image):
 
 
 def run(path, sizes, frames):
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
     data = np.load(path)
     R = float(data["bottom"])
     views = camera_views(R)
@@ -175,15 +189,8 @@ def run(path, sizes, frames):
     print("|---" * (2 + len(variants) * len(views)) + "|")
     quick_rows = []
     for size in sizes:
-        w, h = (int(v) for v in size.split("x"))
         row = [size]
-        window = vtkRenderWindow()
-        window.SetOffScreenRendering(1)
-        window.SetSize(w, h)
-        window.SetMultiSamples(0)
-        renderer = vtkRenderer()
-        renderer.SetNearClippingPlaneTolerance(1e-6)
-        window.AddRenderer(renderer)
+        window, renderer = offscreen_window(size)
         plain = textured_sphere(R, data["surface"])
         renderer.AddActor(plain)
         set_camera(renderer, *views["orbit, 4 radii"])
@@ -236,9 +243,6 @@ def breakdown(path, size, frames, repeats=3):
     """Where the per-vertex frame goes: the empty frame, the plain textured sphere, the per-vertex renderer and
     the variants of BREAKDOWN, interleaved ``repeats`` times (the GPU's timings drift by 10-20% between runs),
     from orbit and from the ground; medians of the repeats' medians."""
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
-
     from planetviz.render import vertex_actor
     from planetviz.render.shaders import shader_code
     replace = {}
@@ -255,14 +259,7 @@ def breakdown(path, size, frames, repeats=3):
     vertex_actor.shader_code = patched
     data = np.load(path)
     R = float(data["bottom"])
-    w, h = (int(v) for v in size.split("x"))
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(w, h)
-    window.SetMultiSamples(0)
-    renderer = vtkRenderer()
-    renderer.SetNearClippingPlaneTolerance(1e-6)
-    window.AddRenderer(renderer)
+    window, renderer = offscreen_window(size)
     views = {name: view for name, view in camera_views(R).items() if name != "1e9 m"}
     configs = {"empty frame": None, "plain textured sphere": "plain", "per vertex": (), **BREAKDOWN}
     times = {name: [] for name in configs}
