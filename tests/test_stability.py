@@ -85,13 +85,17 @@ def reference_rays(n_examples):
     @given(alt=altitudes, up=unit, view=unit, sun=unit,
            kind=st.sampled_from(["random", "tangent to the ground", "tangent to the top", "up", "down"]),
            special=st.sampled_from(["random", "sun", "anti-sun", "zenith", "horizon", "behind the planet"]))
+    @example(alt=1.0, up=np.array([0.0, -1.0, 0.0]), view=np.array([1.0, 0.0, 0.0]),
+             sun=np.array([0.9701425, 0.24253563, 0.0]), kind="random", special="random")
     def check(alt, up, view, sun, kind, special):
         # The reference solver anywhere: its Monte Carlo estimate (single scattering and the directly lit ground
         # only) against the deterministic single-scattering quadrature of reference/single.py, two independent
         # computations of the same integral. Bound: 5 standard errors of the estimate (a false alarm once in
-        # ~1e6 draws per wavelength) plus 1e-3 relative (the quadratures' own errors, under 1e-4) plus 1e-9
-        # absolute (both are exactly 0 on rays that miss the atmosphere). Radiance finite and >= 0, view
-        # transmittance in [0, 1].
+        # ~1e6 draws per wavelength) plus 1e-3 relative (the quadratures' own errors, under 1e-4) plus 1e-5
+        # absolute (1/1000 of a daylight sky): an estimate whose paths all scattered where the sun does not
+        # reach has no variance to report; found by CI's long run (kept below): 1 m up along the horizon, the
+        # sun 14 deg below it, single scattering 2.3e-6 from air lit hundreds of km away, and none of the 1024
+        # paths scattered there. Radiance finite and >= 0, view transmittance in [0, 1].
         r = R + alt
         view = _aimed(r, up, view, kind)
         sun = {"sun": view, "anti-sun": -view, "zenith": up, "behind the planet": -up,
@@ -104,7 +108,7 @@ def reference_rays(n_examples):
         exact = scatter + ground
         _check(mc.radiance, mc.transmittance)
         _check(exact, mc.transmittance)
-        assert np.all(np.abs(mc.radiance - exact) <= 5 * mc.stderr + 1e-3 * exact + 1e-9), (mc.radiance, mc.stderr,
+        assert np.all(np.abs(mc.radiance - exact) <= 5 * mc.stderr + 1e-3 * exact + 1e-5), (mc.radiance, mc.stderr,
                                                                                                 exact)
     return check
 
