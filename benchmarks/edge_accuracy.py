@@ -1,6 +1,6 @@
 """Accuracy of the tables at the edges of the accepted atmospheres, against the Monte Carlo reference solver.
 
-    python benchmarks/edge_accuracy.py [--quality standard] [--samples 4096]
+    python benchmarks/edge_accuracy.py [--quality standard] [--samples 4096] [NAME ...]
 
 The edge atmospheres of tests/test_stability.py (scale heights 10 m and 1000 km, thickness 1 km and = the
 planet's radius, optical depth 1e-8 and 100, g = +-0.99, albedo 0 and 1, one wavelength, planets of 100 km and
@@ -46,8 +46,9 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quality", default="standard")
     ap.add_argument("--samples", type=int, default=4096)
+    ap.add_argument("names", nargs="*", help="edge atmospheres to run (default: all)")
     args = ap.parse_args()
-    names = [e if isinstance(e, str) else e.values[0] for e in EDGES]
+    names = args.names or [e if isinstance(e, str) else e.values[0] for e in EDGES]
     print("| atmosphere | max relative difference | RMS | reference's largest relative standard error | "
           "precompute s | orders |")
     print("|---|---|---|---|---|---|")

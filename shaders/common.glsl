@@ -63,8 +63,10 @@ vec4 double_henyey_greenstein(float nu, vec4 g1, vec4 g2, vec4 alpha) {
     return alpha * henyey_greenstein(nu, g1) + (1.0 - alpha) * henyey_greenstein(nu, g2);
 }
 
-// The twice-scattered particle lobe F(nu) = DHG(nu; g1^2, g2^2, alpha) of group g.
+// The twice-scattered particle lobe F(nu) = DHG(nu; g1+^2, g2+^2, alpha) of group g, g+ = max(g, 0) (a backward
+// lobe counts as isotropic; planetviz/tables/multiple.py forward_factor).
 vec4 forward_factor(float nu, int g) {
-    return double_henyey_greenstein(nu, mie_g1[g] * mie_g1[g], mie_g2[g] * mie_g2[g], mie_alpha[g]);
+    vec4 g1 = max(mie_g1[g], 0.0), g2 = max(mie_g2[g], 0.0);
+    return double_henyey_greenstein(nu, g1 * g1, g2 * g2, mie_alpha[g]);
 }
 

@@ -237,15 +237,18 @@ def test_twilight_fades_smoothly_past_the_end_of_the_tables():
     assert np.all(radiance[-1] < 1e-2 * radiance[3])         # measured: 4700x darker at the nadir sun
 
 
-def test_forward_factor_is_a_normalised_lobe_with_the_squared_asymmetry():
-    # F(nu) must integrate to 1 over the sphere and have mean cosine alpha g1^2 + (1 - alpha) g2^2 (the
-    # first Legendre moment of a Henyey-Greenstein lobe convolved with itself): checked by quadrature.
+@pytest.mark.parametrize("name", ["mars", "exo-co2-thick"])
+def test_forward_factor_is_a_normalised_lobe_with_the_squared_asymmetry(name):
+    # F(nu) must integrate to 1 over the sphere and have mean cosine alpha g1+^2 + (1 - alpha) g2+^2, g+ =
+    # max(g, 0) (the first Legendre moment of a Henyey-Greenstein lobe convolved with itself; a backward lobe
+    # counts as isotropic: the thick planet's g2 = -0.3): checked by quadrature.
     from planetviz.tables.multiple import forward_factor
-    mars = load_atmosphere("mars")
+    atm = load_atmosphere(name)
     nu = np.linspace(-1.0, 1.0, 400001)
-    f = forward_factor(mars, nu)
+    f = forward_factor(atm, nu)
     assert np.allclose(2 * np.pi * np.trapezoid(f, nu, axis=0), 1.0, rtol=1e-6)
-    g1, g2, a = (np.asarray(x) for x in (mars.mie.g1, mars.mie.g2, mars.mie.alpha))
+    g1, g2 = (np.maximum(np.asarray(x), 0.0) for x in (atm.mie.g1, atm.mie.g2))
+    a = np.asarray(atm.mie.alpha)
     assert np.allclose(2 * np.pi * np.trapezoid(f * nu[:, None], nu, axis=0), a * g1 ** 2 + (1 - a) * g2 ** 2,
                        atol=1e-5)
 

@@ -92,15 +92,20 @@ class _Incident:
 
 
 def forward_factor(atm, nu):
-    """F(nu) = alpha HG(nu; g1^2) + (1 - alpha) HG(nu; g2^2), (..., W) [1/sr]: the angular shape of light
-    scattered twice by the particles (a Henyey-Greenstein lobe convolved with itself is the lobe of g^2).
+    """F(nu) = alpha HG(nu; g1+^2) + (1 - alpha) HG(nu; g2+^2), (..., W) [1/sr], g+ = max(g, 0): the angular
+    shape of light scattered twice by the particles' forward lobes (a Henyey-Greenstein lobe convolved with
+    itself is the lobe of g^2).
 
     The particles' share of the scattering density and of the multiple-scattering table is stored divided
     by F(nu) and multiplied back on reading: with a forward lobe like Mars dust's (g = 0.89) the raw values
     peak so sharply toward the sun that interpolating them between texels 20 deg apart mixes the peak into
-    other directions; divided by F they vary slowly.
+    other directions; divided by F they vary slowly. A backward lobe (g < 0) counts as isotropic: its light
+    turns back with each order (twice is forward, three times backward again), so no single lobe describes it,
+    and the lobe of g^2 multiplied onto it made the sky 15 deg from the sun twice too bright for g = -0.99
+    (benchmarks/edge_accuracy.py; tests/test_tables.py).
     """
-    g1, g2, alpha = (np.asarray(x, dtype=float) for x in (atm.mie.g1, atm.mie.g2, atm.mie.alpha))
+    g1, g2, alpha = (np.maximum(np.asarray(x, dtype=float), 0.0) if k < 2 else np.asarray(x, dtype=float)
+                     for k, x in enumerate((atm.mie.g1, atm.mie.g2, atm.mie.alpha)))
     return double_henyey_greenstein(np.asarray(nu, dtype=float)[..., None], g1 * g1, g2 * g2, alpha)
 
 
