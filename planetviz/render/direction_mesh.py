@@ -89,19 +89,20 @@ def _corners(tris):
     return [np.ascontiguousarray(tris[:, k]) for k in range(3)]
 
 
-def _longest_edges(dirs, corners):
+def longest_edges(dirs, tris):
     """(m,) the longest edge of each triangle as a chord between unit vectors (chord^2 = 2 - 2 cos)."""
-    a, b, c = (np.take(dirs, k, axis=0) for k in corners)
+    a, b, c = (np.take(dirs, k, axis=0) for k in _corners(tris))
     least_cos = np.minimum(np.minimum(np.einsum("ij,ij->i", a, b), np.einsum("ij,ij->i", b, c)),
                            np.einsum("ij,ij->i", c, a))
     return np.sqrt(np.maximum(2.0 - 2.0 * least_cos, 0.0))
 
 
-def may_meet_sphere(dirs, tris, camera, radius):
+def may_meet_sphere(dirs, tris, camera, radius, edges=None):
     """(m,) bool: the triangles of the direction mesh around ``camera`` that may contain rays meeting the sphere
     of ``radius`` about the planet's centre (the ground, or the top of the atmosphere): a vertex inside the
     sphere's cone, or within the largest distance [rad] by which a triangle's edge between two vertices outside
-    the cone can dip inside it (the edges are great-circle arcs, the cone's edge a small circle), plus 1e-3 rad."""
+    the cone can dip inside it (the edges are great-circle arcs, the cone's edge a small circle), plus 1e-3 rad.
+    ``edges``: :func:`longest_edges` of ``tris``, when the caller has them."""
     camera = np.asarray(camera, dtype=float)
     r = np.linalg.norm(camera)
     if r <= radius:
@@ -111,14 +112,15 @@ def may_meet_sphere(dirs, tris, camera, radius):
     corners = _corners(tris)
     # The longest edge as half an azimuthal span on the cone's circle, then the dip of an arc of that span:
     # tan(theta_mid) = tan(limb) cos(half span).
-    half = np.arcsin(np.clip(_longest_edges(dirs, corners) / (2 * math.sin(limb)), 0.0, 1.0))
+    edges = longest_edges(dirs, tris) if edges is None else edges
+    half = np.arcsin(np.clip(edges / (2 * math.sin(limb)), 0.0, 1.0))
     dip = limb - np.arctan(math.tan(min(limb, math.pi / 2 - 1e-9)) * np.cos(half))
     least_theta = np.minimum(np.minimum(np.take(theta, corners[0]), np.take(theta, corners[1])),
                              np.take(theta, corners[2]))
     return least_theta <= limb + dip + 1e-3
 
 
-def may_meet_disc(dirs, tris, direction, radius):
+def may_meet_disc(dirs, tris, direction, radius, edges=None):
     """(m,) bool: the triangles that may contain directions within ``radius`` [rad] of the unit ``direction``
     (the sun's disc): any point of a triangle lies within its longest edge of a vertex, so a triangle meeting
     the disc has a vertex within ``radius`` + that edge (as angles, plus 1e-3 rad)."""
@@ -126,7 +128,8 @@ def may_meet_disc(dirs, tris, direction, radius):
     cos_to = np.clip(dirs @ np.asarray(direction, dtype=float), -1.0, 1.0)
     nearest = np.maximum(np.maximum(np.take(cos_to, corners[0]), np.take(cos_to, corners[1])),
                          np.take(cos_to, corners[2]))
-    reach = radius + 2.0 * np.arcsin(np.minimum(_longest_edges(dirs, corners) / 2.0, 1.0)) + 1e-3
+    edges = longest_edges(dirs, tris) if edges is None else edges
+    reach = radius + 2.0 * np.arcsin(np.minimum(edges / 2.0, 1.0)) + 1e-3
     return np.arccos(nearest) <= reach
 
 
@@ -252,12 +255,14 @@ class DirectionMeshActor:
             # Rays that miss the atmosphere and the sun's disc stay black, the background's colour: their
             # triangles are not drawn (from space, most of the frame).
             sun_radius = math.radians(self.settings.sun_angular_radius_deg)
-            tris = tris[may_meet_sphere(dirs, tris, cam, self.atmosphere.top_radius_m)
-                        | may_meet_disc(dirs, tris, self.sun_direction / np.linalg.norm(self.sun_direction),
-                                        sun_radius)]
+            edges = longest_edges(dirs, tris)             # shared by the three tests (rebuilt on every move)
+            seen = (may_meet_sphere(dirs, tris, cam, self.atmosphere.top_radius_m, edges)
+                    | may_meet_disc(dirs, tris, self.sun_direction / np.linalg.norm(self.sun_direction),
+                                    sun_radius, edges))
+            tris, edges = tris[seen], edges[seen]
             points = _points(cam + distance * dirs)
             if self.split_at_limb:
-                ground = may_meet_sphere(dirs, tris, cam, bottom)
+                ground = may_meet_sphere(dirs, tris, cam, bottom, edges)
                 parts = [_polydata(points, tris[ground], "polys"), _polydata(points, tris[~ground], "polys")]
             else:
                 parts = [_polydata(points, tris, "polys")]

@@ -94,6 +94,11 @@ def groups_array(values):
     return out
 
 
+#: The vtkUniforms setter of each single-value kind.
+SINGLE_SETTERS = {"f": "SetUniformf", "i": "SetUniformi", "2f": "SetUniform2f", "3f": "SetUniform3f",
+                  "4f": "SetUniform4f"}
+
+
 class UniformStore:
     """The uniforms of one actor's shader program, written from Python only when they change.
 
@@ -125,10 +130,7 @@ class UniformStore:
             if self._values.get(name) == value:
                 continue
             self._values[name] = value
-            setter = {"f": self.uniforms.SetUniformf, "i": self.uniforms.SetUniformi,
-                      "2f": self.uniforms.SetUniform2f, "3f": self.uniforms.SetUniform3f,
-                      "4f": self.uniforms.SetUniform4f}[kind]
-            setter(name, value)
+            getattr(self.uniforms, SINGLE_SETTERS[kind])(name, value)
 
     def set_arrays(self, program):
         """Set the array uniforms on ``program`` (a ``vtkShaderProgram`` about to draw), unless they were set on
