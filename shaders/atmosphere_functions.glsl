@@ -2,7 +2,8 @@
 // planetviz/tables/lookup.py (after common.glsl). Every function carries the name of its NumPy twin;
 // tests/test_render.py checks that the shader and the NumPy evaluator agree.
 //
-// Notation as in the NumPy code: r = distance to the planet centre [m], mu = cos(view zenith),
+// Notation as in the NumPy code, except that a point is given by its altitude a = r - R_b [m] where NumPy takes
+// its distance r to the planet centre (common.glsl: a float r is 0.5 m coarse at 6.4e6 m); mu = cos(view zenith),
 // mu_s = cos(sun zenith), nu = cos(view-sun angle). Radiance is per unit solar irradiance [1/sr], one vec4 per
 // group of four wavelengths (group g holds wavelengths 4g .. 4g + 3).
 //
@@ -34,11 +35,11 @@ uniform sampler3D multiple_mie_texture;
 float texcoord_from_unit_range(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
 
 // ------------------------------------------------------------------------------------------- transmittance
-vec2 transmittance_uv_from_r_mu(float r, float mu) {
+vec2 transmittance_uv_from_r_mu(float a, float mu) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
-    float rho = rho_of(r);
-    float d = distance_to_top_atmosphere_boundary(r, mu);
-    float d_min = top_radius - r;
+    float rho = rho_of(a);
+    float d = distance_to_top_atmosphere_boundary(a, mu);
+    float d_min = (top_radius - bottom_radius) - a;
     float d_max = rho + h;
     float x_mu = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
     return vec2(texcoord_from_unit_range(x_mu, transmittance_size.x),
@@ -50,42 +51,46 @@ vec4 texture_group(sampler2D table, vec2 uv, int g) {
     return texture(table, vec2(uv.x, (float(g) + uv.y) / float(group_count)));
 }
 
-vec4 get_optical_depth_to_top_atmosphere_boundary(float r, float mu, int g) {
-    return texture_group(optical_depth_texture, transmittance_uv_from_r_mu(r, mu), g);
+vec4 get_optical_depth_to_top_atmosphere_boundary(float a, float mu, int g) {
+    return texture_group(optical_depth_texture, transmittance_uv_from_r_mu(a, mu), g);
 }
 
-vec4 get_transmittance_to_top_atmosphere_boundary(float r, float mu, int g) {
-    return exp(-get_optical_depth_to_top_atmosphere_boundary(r, mu, g));
+vec4 get_transmittance_to_top_atmosphere_boundary(float a, float mu, int g) {
+    return exp(-get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
 }
 
-// T between (r, mu) and the point at distance d: a difference of optical depths; ground rays use the reversed ray.
-vec4 get_transmittance(float r, float mu, float d, bool intersects_ground, int g) {
-    float r_d = clamp(sqrt(max(d * d + 2.0 * r * mu * d + r * r, 0.0)), bottom_radius, top_radius);
-    float mu_d = clamp_cosine((r * mu + d) / r_d);
+// T between (a, mu) and the point at distance d: a difference of optical depths; ground rays use the reversed ray.
+// That point's altitude a_d from r_d^2 - R_b^2 = d (d + 2 r mu) + a (a + 2 R_b): no cancellation against R_b^2.
+vec4 get_transmittance(float a, float mu, float d, bool intersects_ground, int g) {
+    float r = radius_of(a);
+    float c_d = max(d * (d + 2.0 * r * mu) + a * (a + 2.0 * bottom_radius), 0.0);
+    float r_d = sqrt(c_d + bottom_radius * bottom_radius);
+    float a_d = min(c_d / (r_d + bottom_radius), top_radius - bottom_radius);
+    float mu_d = clamp_cosine((r * mu + d) / radius_of(a_d));
     vec4 near_tau, far_tau;
     if (intersects_ground) {
-        near_tau = get_optical_depth_to_top_atmosphere_boundary(r_d, -mu_d, g);
-        far_tau = get_optical_depth_to_top_atmosphere_boundary(r, -mu, g);
+        near_tau = get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g);
+        far_tau = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
     } else {
-        near_tau = get_optical_depth_to_top_atmosphere_boundary(r, mu, g);
-        far_tau = get_optical_depth_to_top_atmosphere_boundary(r_d, mu_d, g);
+        near_tau = get_optical_depth_to_top_atmosphere_boundary(a, mu, g);
+        far_tau = get_optical_depth_to_top_atmosphere_boundary(a_d, mu_d, g);
     }
     return exp(-max(near_tau - far_tau, 0.0));
 }
 
-vec4 get_transmittance_to_sun(float r, float mu_s, int g) {
-    return ray_intersects_ground(r, mu_s) ? vec4(0.0) : get_transmittance_to_top_atmosphere_boundary(r, mu_s, g);
+vec4 get_transmittance_to_sun(float a, float mu_s, int g) {
+    return ray_intersects_ground(a, mu_s) ? vec4(0.0) : get_transmittance_to_top_atmosphere_boundary(a, mu_s, g);
 }
 
 // ---------------------------------------------------------------------------------------------- irradiance
-vec2 irradiance_uv_from_r_mu_s(float r, float mu_s) {
-    float x_r = (r - bottom_radius) / (top_radius - bottom_radius);
+vec2 irradiance_uv_from_r_mu_s(float a, float mu_s) {
+    float x_r = a / (top_radius - bottom_radius);
     float x_mu_s = mu_s * 0.5 + 0.5;
     return vec2(texcoord_from_unit_range(x_mu_s, irradiance_size.x), texcoord_from_unit_range(x_r, irradiance_size.y));
 }
 
-vec4 get_irradiance(float r, float mu_s, int g) {
-    return texture_group(irradiance_texture, irradiance_uv_from_r_mu_s(r, mu_s), g);
+vec4 get_irradiance(float a, float mu_s, int g) {
+    return texture_group(irradiance_texture, irradiance_uv_from_r_mu_s(a, mu_s), g);
 }
 
 // ---------------------------------------------------------------------------------------------- scattering
@@ -94,28 +99,28 @@ float x_mu_s_from_mu_s(float mu_s) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
     float d_min = top_radius - bottom_radius;
     float d_max = h;
-    float a = (distance_to_top_atmosphere_boundary(bottom_radius, mu_s) - d_min) / (d_max - d_min);
-    float big_a = (distance_to_top_atmosphere_boundary(bottom_radius, mu_s_min) - d_min) / (d_max - d_min);
+    float a = (distance_to_top_atmosphere_boundary(0.0, mu_s) - d_min) / (d_max - d_min);
+    float big_a = (distance_to_top_atmosphere_boundary(0.0, mu_s_min) - d_min) / (d_max - d_min);
     return (1.0 - a / big_a) / (1.0 + a);
 }
 
 // (u_nu, u_mu_s, u_mu, u_r) of a table of size (n_nu, n_mu_s, n_mu, n_r); u_mu_s clamped as in NumPy.
-vec4 scattering_uvwz_from_r_mu_mu_s_nu(float r, float mu, float mu_s, float nu, bool intersects_ground, vec4 size) {
+vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, bool intersects_ground, vec4 size) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
-    float rho = rho_of(r);
+    float rho = rho_of(a);
     float u_r = texcoord_from_unit_range(rho / h, size.w);
-    float r_mu = r * mu;
-    float disc = r_mu * r_mu - (r - bottom_radius) * (r + bottom_radius);
+    float r_mu = radius_of(a) * mu;
+    float disc = r_mu * r_mu - rho * rho;
     float u_mu;
     if (intersects_ground) {
-        float d = distance_to_bottom_atmosphere_boundary(r, mu);
-        float d_min = r - bottom_radius;
+        float d = distance_to_bottom_atmosphere_boundary(a, mu);
+        float d_min = a;
         float d_max = rho;
         float x = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
         u_mu = 0.5 - 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
     } else {
         float d = -r_mu + safe_sqrt(disc + h * h);
-        float d_min = top_radius - r;
+        float d_min = (top_radius - bottom_radius) - a;
         float d_max = rho + h;
         u_mu = 0.5 + 0.5 * texcoord_from_unit_range((d - d_min) / (d_max - d_min), size.z / 2.0);
     }
@@ -137,10 +142,10 @@ vec4 geometric_blend(vec4 a, vec4 b, float f) {
 
 // The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel
 // centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu.
-vec4 get_scattering(sampler3D table, vec4 size, float r, float mu, float mu_s, float nu, bool intersects_ground,
+vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, float nu, bool intersects_ground,
                     int g) {
     float n_nu = size.x, n_mu_s = size.y;
-    vec4 uvwz = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, size);
+    vec4 uvwz = scattering_uvwz_from_r_mu_mu_s_nu(a, mu, mu_s, nu, intersects_ground, size);
     float coord = uvwz.x * (n_nu - 1.0);
     float tex_nu = clamp(floor(coord), 0.0, max(n_nu - 2.0, 0.0));
     float lerp_nu = coord - tex_nu;
@@ -160,11 +165,11 @@ vec4 get_scattering(sampler3D table, vec4 size, float r, float mu, float mu_s, f
 
 // In-scattered radiance of group g: single scattering with its phases plus multiple scattering
 // (the evaluator's _phased).
-vec4 get_phased_scattering(float r, float mu, float mu_s, float nu, bool intersects_ground, int g) {
-    vec4 s_r = get_scattering(single_rayleigh_texture, single_size, r, mu, mu_s, nu, intersects_ground, g);
-    vec4 s_m = get_scattering(single_mie_texture, single_size, r, mu, mu_s, nu, intersects_ground, g);
-    vec4 s_ms = get_scattering(multiple_texture, multiple_size, r, mu, mu_s, nu, intersects_ground, g);
-    vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, r, mu, mu_s, nu, intersects_ground, g);
+vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
+    vec4 s_r = get_scattering(single_rayleigh_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
+    vec4 s_m = get_scattering(single_mie_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
+    vec4 s_ms = get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);
+    vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);
     return s_r * rayleigh_like_phase(nu)
         + s_m * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
         + s_ms + forward_factor(nu, g) * s_ms_mie;

@@ -8,8 +8,9 @@
 // the ground, the disc) but reads only 2D tables, per pixel (atmosphere_interpolated.glsl).
 //
 // Uniforms:
-//   camera_position        vec3   planet-centred camera position [m] (float; used for the ground point's texture)
-//   camera_radius          float  |camera_position| [m], computed in double on the CPU
+//   camera_position        vec3   planet-centred camera position [m] (float: for directions and the ground point's
+//                                 texture coordinates, never for the camera's height)
+//   camera_altitude        float  |camera_position| - bottom_radius [m], computed in double on the CPU
 //   sun_direction          vec3   unit vector toward the sun
 //   use_surface_texture    int    1: albedo from the surface texture, 0: surface_albedo
 //   albedo_weights         vec4[3 MAX_GROUPS]  albedo of group g = sum_c albedo_weights[3g + c] * linear texture[c]
@@ -24,7 +25,7 @@
 //   output_triple          int    k of output_mode 1
 
 uniform vec3 camera_position;
-uniform float camera_radius;
+uniform float camera_altitude;
 uniform vec3 sun_direction;
 uniform int use_surface_texture;
 uniform vec4 albedo_weights[3 * MAX_GROUPS];
@@ -48,18 +49,18 @@ vec3 to_channels(vec4 l, int g) {
     return vec3(dot(channel_weights(0, g), l), dot(channel_weights(1, g), l), dot(channel_weights(2, g), l));
 }
 
-// The view ray along v where it enters the atmosphere: (r, mu, mu_s, nu), the start point x and whether the ray
-// meets the atmosphere at all.
-struct ViewRay { vec3 v; vec3 x; float r; float mu; float mu_s; float nu; bool visible; };
+// The view ray along v where it enters the atmosphere: (a, mu, mu_s, nu) with a = r - R_b (common.glsl), the start
+// point x and whether the ray meets the atmosphere at all.
+struct ViewRay { vec3 v; vec3 x; float a; float mu; float mu_s; float nu; bool visible; };
 
 ViewRay view_ray(vec3 v) {
     ViewRay ray;
     ray.v = v;
     ray.x = camera_position;
-    ray.r = camera_radius;
-    ray.mu = dot(camera_position, ray.v) / camera_radius;
+    ray.a = camera_altitude;
+    ray.mu = dot(camera_position, ray.v) / radius_of(camera_altitude);
     ray.visible = true;
-    if (camera_radius > top_radius) {
+    if (camera_altitude > top_radius - bottom_radius) {
         // Closest approach of the planet centre, |x - (x.v) v|^2, computed as a vector (no cancellation).
         float b = dot(camera_position, ray.v);
         vec3 q = camera_position - b * ray.v;
@@ -69,7 +70,7 @@ ViewRay view_ray(vec3 v) {
         } else {
             float half_chord = sqrt(top_radius * top_radius - p2);
             ray.x = q - half_chord * ray.v;
-            ray.r = top_radius;
+            ray.a = top_radius - bottom_radius;
             ray.mu = -half_chord / top_radius;
         }
     }
@@ -79,10 +80,10 @@ ViewRay view_ray(vec3 v) {
     return ray;
 }
 
-bool ray_hits_ground(ViewRay ray) { return ray.visible && ray_intersects_ground(ray.r, ray.mu); }
+bool ray_hits_ground(ViewRay ray) { return ray.visible && ray_intersects_ground(ray.a, ray.mu); }
 
 // Where the ray meets the ground (planet-centred, [m]); only meaningful where ray_hits_ground.
-vec3 ground_point(ViewRay ray) { return ray.x + distance_to_bottom_atmosphere_boundary(ray.r, ray.mu) * ray.v; }
+vec3 ground_point(ViewRay ray) { return ray.x + distance_to_bottom_atmosphere_boundary(ray.a, ray.mu) * ray.v; }
 
 // The ground's albedo of group g for the linear colour c of the surface texture at the ground point.
 vec4 albedo_from_colour(vec3 c, int g) {
@@ -90,15 +91,15 @@ vec4 albedo_from_colour(vec3 c, int g) {
     return albedo_weights[3 * g] * c.r + albedo_weights[3 * g + 1] * c.g + albedo_weights[3 * g + 2] * c.b;
 }
 
-// Where a ground ray ends: its length d and (r, mu, mu_s) at the ground point.
-struct GroundHit { float d; float r; float mu; float mu_s; };
+// Where a ground ray ends: its length d and (mu, mu_s) at the ground point (altitude 0).
+struct GroundHit { float d; float mu; float mu_s; };
 
 GroundHit ground_hit(ViewRay ray) {
     GroundHit h;
-    h.d = distance_to_bottom_atmosphere_boundary(ray.r, ray.mu);
-    h.r = max(sqrt(max(h.d * h.d + 2.0 * ray.r * ray.mu * h.d + ray.r * ray.r, 0.0)), bottom_radius);
-    h.mu = clamp_cosine((ray.r * ray.mu + h.d) / h.r);
-    h.mu_s = clamp_cosine((ray.r * ray.mu_s + h.d * ray.nu) / h.r);
+    float r = radius_of(ray.a);
+    h.d = distance_to_bottom_atmosphere_boundary(ray.a, ray.mu);
+    h.mu = clamp_cosine((r * ray.mu + h.d) / bottom_radius);
+    h.mu_s = clamp_cosine((r * ray.mu_s + h.d * ray.nu) / bottom_radius);
     return h;
 }
 
@@ -106,12 +107,12 @@ GroundHit ground_hit(ViewRay ray) {
 // S(x) - T(x, y) S(y) (aerial perspective).
 vec4 get_inscatter(ViewRay ray, int g) {
     if (!ray.visible) return vec4(0.0);
-    bool ground = ray_intersects_ground(ray.r, ray.mu);
-    vec4 l = get_phased_scattering(ray.r, ray.mu, ray.mu_s, ray.nu, ground, g);
+    bool ground = ray_intersects_ground(ray.a, ray.mu);
+    vec4 l = get_phased_scattering(ray.a, ray.mu, ray.mu_s, ray.nu, ground, g);
     if (!ground) return l;
     GroundHit h = ground_hit(ray);
-    vec4 t_xy = get_transmittance(ray.r, ray.mu, h.d, true, g);
-    return max(l - t_xy * get_phased_scattering(h.r, h.mu, h.mu_s, ray.nu, true, g), 0.0);
+    vec4 t_xy = get_transmittance(ray.a, ray.mu, h.d, true, g);
+    return max(l - t_xy * get_phased_scattering(0.0, h.mu, h.mu_s, ray.nu, true, g), 0.0);
 }
 
 // The radiance of a ground of albedo 1 at the end of a ground ray, seen through the atmosphere, of group g per
@@ -119,14 +120,14 @@ vec4 get_inscatter(ViewRay ray, int g) {
 vec4 get_ground_light(ViewRay ray, int g) {
     if (!ray_hits_ground(ray)) return vec4(0.0);
     GroundHit h = ground_hit(ray);
-    vec4 sun = get_transmittance_to_sun(bottom_radius, h.mu_s, g) * max(h.mu_s, 0.0);
-    return get_transmittance(ray.r, ray.mu, h.d, true, g) / PI * (sun + get_irradiance(bottom_radius, h.mu_s, g));
+    vec4 sun = get_transmittance_to_sun(0.0, h.mu_s, g) * max(h.mu_s, 0.0);
+    return get_transmittance(ray.a, ray.mu, h.d, true, g) / PI * (sun + get_irradiance(0.0, h.mu_s, g));
 }
 
 // Transmittance from the camera to space along the ray, of group g (1 for rays that miss the atmosphere, 0 for
 // rays that hit the ground): the sun disc's radiance is this over sun_solid_angle.
 vec4 get_sun_transmittance(ViewRay ray, int g) {
     if (!ray.visible) return vec4(1.0);
-    if (ray_intersects_ground(ray.r, ray.mu)) return vec4(0.0);
-    return get_transmittance_to_top_atmosphere_boundary(ray.r, ray.mu, g);
+    if (ray_intersects_ground(ray.a, ray.mu)) return vec4(0.0);
+    return get_transmittance_to_top_atmosphere_boundary(ray.a, ray.mu, g);
 }

@@ -23,25 +23,34 @@ uniform vec4 mie_alpha[MAX_GROUPS];
 float safe_sqrt(float a) { return sqrt(max(a, 0.0)); }
 float clamp_cosine(float mu) { return clamp(mu, -1.0, 1.0); }
 
-// rho = sqrt(r^2 - R_b^2) as (r - R_b)(r + R_b): no cancellation for a camera metres above the ground.
-float rho_of(float r) { return safe_sqrt((r - bottom_radius) * (r + bottom_radius)); }
+// Points are given to these functions by their altitude a = r - R_b [m] where the NumPy twins take r: a float r
+// is 0.5 m coarse at 6.4e6 m (a camera 1.7 m up would be drawn from 1.5 m), a float a is not. r = R_b + a is
+// formed only where a relative precision of 6e-8 suffices (products with cosines, distances to the top), and
+// r^2 - R_b^2 is always a (a + 2 R_b).
+float radius_of(float a) { return bottom_radius + a; }
 
-// d >= 0 along (r, mu) to the top of the atmosphere, r <= top.
-float distance_to_top_atmosphere_boundary(float r, float mu) {
+// rho = sqrt(r^2 - R_b^2), the distance to the horizon.
+float rho_of(float a) { return safe_sqrt(a * (a + 2.0 * bottom_radius)); }
+
+// d >= 0 along (a, mu) to the top of the atmosphere, r <= top.
+float distance_to_top_atmosphere_boundary(float a, float mu) {
+    float r = radius_of(a);
     float disc = r * r * (mu * mu - 1.0) + top_radius * top_radius;
     return max(-r * mu + safe_sqrt(disc), 0.0);
 }
 
-// d >= 0 along (r, mu) to the ground, in the stable form c / q with c = (r - R_b)(r + R_b).
-float distance_to_bottom_atmosphere_boundary(float r, float mu) {
-    float c = (r - bottom_radius) * (r + bottom_radius);
+// d >= 0 along (a, mu) to the ground, in the stable form c / q with c = r^2 - R_b^2 = a (a + 2 R_b).
+float distance_to_bottom_atmosphere_boundary(float a, float mu) {
+    float r = radius_of(a);
+    float c = a * (a + 2.0 * bottom_radius);
     float disc = r * r * mu * mu - c;
     float q = -r * mu + safe_sqrt(disc);
     return q > 0.0 ? max(c / q, 0.0) : 0.0;
 }
 
-bool ray_intersects_ground(float r, float mu) {
-    return mu < 0.0 && r * r * mu * mu - (r - bottom_radius) * (r + bottom_radius) >= 0.0;
+bool ray_intersects_ground(float a, float mu) {
+    float r = radius_of(a);
+    return mu < 0.0 && r * r * mu * mu - a * (a + 2.0 * bottom_radius) >= 0.0;
 }
 
 // --------------------------------------------------------------------------------------------------- phases

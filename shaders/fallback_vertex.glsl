@@ -5,6 +5,7 @@
 //
 // Uniforms:
 //   camera_position        vec3   planet-centred camera position [m]
+//   camera_altitude        float  |camera_position| - bottom_radius [m], computed in double on the CPU
 //   sun_direction          vec3   unit vector toward the sun
 //   view_samples           int    n, points on the view path
 //   density_samples        int    m, points on each optical-depth path
@@ -32,6 +33,7 @@
 #define PROFILE_TABLE_SIZE 64
 
 uniform vec3 camera_position;
+uniform float camera_altitude;
 uniform vec3 sun_direction;
 uniform int view_samples;
 uniform int density_samples;
@@ -92,26 +94,26 @@ float distance_to_top_exit(vec3 p, vec3 d) {
 // True where the planet hides the sun from p.
 bool in_shadow(vec3 p) {
     float r = length(p);
-    return ray_intersects_ground(r, dot(p, sun_direction) / r);
+    return ray_intersects_ground(r - bottom_radius, dot(p, sun_direction) / r);
 }
 
 // Single-scattered radiance of group g along v from the camera, per unit solar irradiance [1/sr].
 vec4 fallback_radiance(vec3 v, int g) {
     vec3 x = camera_position;
-    float r = length(x);
-    float mu = dot(x, v) / r;
+    float a = camera_altitude;
+    float mu = dot(x, v) / radius_of(a);
     // Enter the atmosphere first when the camera is in space (closest approach as a vector: no cancellation).
-    if (r > top_radius) {
+    if (a > top_radius - bottom_radius) {
         float b = dot(x, v);
         vec3 q = x - b * v;
         float p2 = dot(q, q);
         if (b >= 0.0 || p2 >= top_radius * top_radius) return vec4(0.0);
         x = q - sqrt(top_radius * top_radius - p2) * v;
-        r = top_radius;
-        mu = dot(x, v) / r;
+        a = top_radius - bottom_radius;
+        mu = dot(x, v) / top_radius;
     }
-    bool ground = ray_intersects_ground(r, mu);
-    float path = ground ? distance_to_bottom_atmosphere_boundary(r, mu) : distance_to_top_exit(x, v);
+    bool ground = ray_intersects_ground(a, mu);
+    float path = ground ? distance_to_bottom_atmosphere_boundary(a, mu) : distance_to_top_exit(x, v);
     float nu = dot(v, sun_direction);
     float p_r, p_m_norm;
     vec4 p_m;

@@ -12,7 +12,7 @@ from ..fallback import SAMPLING, _coefficients, check_settings
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pad_groups
-from .uniforms import OUTPUT_MODES, TONE_MAPPINGS, atmosphere_uniforms, groups_array
+from .uniforms import OUTPUT_MODES, TONE_MAPPINGS, atmosphere_uniforms, camera_altitude, groups_array
 
 MAX_COMPONENTS = 6
 PROFILE_TABLE_SIZE = 64
@@ -67,7 +67,7 @@ class FallbackActor(DirectionMeshActor):
 
     def frame_uniforms(self, view):
         s = self.settings
-        return {"camera_position": view["camera_position"],
+        return {"camera_position": view["camera_position"], **camera_altitude(view, self.atmosphere.bottom_radius_m),
                 "sun_direction": ("3f", self.sun_direction / np.linalg.norm(self.sun_direction)),
                 "output_mode": ("i", OUTPUT_MODES[s.output_mode]), "output_triple": ("i", s.output_triple),
                 "exposure": ("f", s.exposure), "tone_mapping": ("i", TONE_MAPPINGS[s.tone_mapping])}

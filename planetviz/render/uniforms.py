@@ -68,17 +68,23 @@ def camera_uniforms(renderer):
         tan_h, tan_v = tan_v, tan_v * vh / vw
     else:
         tan_h = tan_v * vw / vh
-    return {"camera_position": ("3f", pos), "camera_radius": ("f", float(np.linalg.norm(pos))),
+    return {"camera_position": ("3f", pos),
             "camera_forward": ("3f", forward), "camera_right": ("3f", right * tan_h),
             "camera_up": ("3f", up * tan_v), "viewport": ("4f", (x0 * w, y0 * h, vw, vh))}
 
 
-def draw_uniforms(view, sun_direction, settings):
-    """The per-frame uniforms of the table-based actors: the camera's (``view``, :func:`camera_uniforms`), the
-    sun and the display settings."""
+def camera_altitude(view, bottom_radius):
+    """The uniform ``camera_altitude``: the camera's height above the ground [m], computed in double (the shaders'
+    float32 radius would be 0.5 m coarse at 6.4e6 m); ``view``: :func:`camera_uniforms`."""
+    return {"camera_altitude": ("f", float(np.linalg.norm(view["camera_position"][1]) - bottom_radius))}
+
+
+def draw_uniforms(view, sun_direction, settings, bottom_radius):
+    """The per-frame uniforms of the table-based actors: the camera's (``view``, :func:`camera_uniforms`, and
+    :func:`camera_altitude` above ``bottom_radius`` [m]), the sun and the display settings."""
     cos_radius = math.cos(math.radians(settings.sun_angular_radius_deg))
     return {
-        **view,
+        **view, **camera_altitude(view, bottom_radius),
         "sun_direction": ("3f", sun_direction / np.linalg.norm(sun_direction)),
         "sun_cos_radius": ("f", cos_radius), "sun_solid_angle": ("f", 2 * math.pi * (1 - cos_radius)),
         "show_sun": ("i", int(settings.show_sun)),
