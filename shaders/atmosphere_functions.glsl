@@ -59,9 +59,9 @@ vec4 get_transmittance_to_top_atmosphere_boundary(float a, float mu, int g) {
     return exp(-get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
 }
 
-// T between (a, mu) and the point at distance d: a difference of optical depths; ground rays use the reversed ray.
-// That point's altitude a_d from r_d^2 - R_b^2 = d (d + 2 r mu) + a (a + 2 R_b): no cancellation against R_b^2.
-vec4 get_transmittance(float a, float mu, float d, bool intersects_ground, int g) {
+// tau between (a, mu) and the point at distance d: a difference of optical depths; ground rays use the reversed
+// ray. That point's altitude a_d from r_d^2 - R_b^2 = d (d + 2 r mu) + a (a + 2 R_b): no cancellation against R_b^2.
+vec4 get_optical_depth(float a, float mu, float d, bool intersects_ground, int g) {
     float r = radius_of(a);
     float c_d = max(d * (d + 2.0 * r * mu) + a * (a + 2.0 * bottom_radius), 0.0);
     float r_d = sqrt(c_d + bottom_radius * bottom_radius);
@@ -75,7 +75,11 @@ vec4 get_transmittance(float a, float mu, float d, bool intersects_ground, int g
         near_tau = get_optical_depth_to_top_atmosphere_boundary(a, mu, g);
         far_tau = get_optical_depth_to_top_atmosphere_boundary(a_d, mu_d, g);
     }
-    return exp(-max(near_tau - far_tau, 0.0));
+    return max(near_tau - far_tau, 0.0);
+}
+
+vec4 get_transmittance(float a, float mu, float d, bool intersects_ground, int g) {
+    return exp(-get_optical_depth(a, mu, d, intersects_ground, g));
 }
 
 vec4 get_transmittance_to_sun(float a, float mu_s, int g) {
@@ -140,8 +144,36 @@ vec4 geometric_blend(vec4 a, vec4 b, float f) {
     return geo * lit;
 }
 
+// 1 - exp(-x) for x >= 0 without cancellation for small x (NumPy: -expm1(-x)); the series' error below 1e-2 is
+// x^3 / 24 < 5e-8 relative.
+vec4 one_minus_exp(vec4 x) {
+    return mix(1.0 - exp(-x), x * (1.0 - x * (0.5 - x / 6.0)), lessThan(x, vec4(1e-2)));
+}
+
+// The factor on a 4D table of n_r rows read at (a, mu) for ground rays from below its first row above the ground:
+// (1 - exp(-k tau_1)) / (f (1 - exp(-tau_1))), k / f where tau_1 = 0; 1 for every other ray. f: the camera's
+// fraction of the way to row 1; k = d / d_1 and tau_1: the ratio of the ray's length to that of row 1's ray at
+// the same u_mu, and that ray's optical depth (planetviz/tables/lookup.py ground_row_factor says why).
+vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, int g) {
+    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
+    float rho = rho_of(a);
+    float f = rho / h * (n_r - 1.0);
+    if (!intersects_ground || f <= 0.0 || f >= 1.0) return vec4(1.0);
+    float d = distance_to_bottom_atmosphere_boundary(a, mu);
+    float x = rho > a ? (d - a) / (rho - a) : 0.0;
+    float rho_1 = h / (n_r - 1.0);
+    float a_1 = rho_1 * rho_1 / (sqrt(rho_1 * rho_1 + bottom_radius * bottom_radius) + bottom_radius);
+    float d_1 = a_1 + x * (rho_1 - a_1);
+    float mu_1 = clamp_cosine(-(rho_1 * rho_1 + d_1 * d_1) / (2.0 * radius_of(a_1) * d_1));
+    vec4 tau_1 = get_optical_depth(a_1, mu_1, d_1, true, g);
+    float k = d / d_1;
+    vec4 ratio = one_minus_exp(k * tau_1) / max(one_minus_exp(tau_1), vec4(1e-37));
+    return mix(ratio, vec4(k), lessThanEqual(tau_1, vec4(0.0))) / f;
+}
+
 // The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel
-// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu.
+// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu, times
+// ground_row_factor.
 vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, float nu, bool intersects_ground,
                     int g) {
     float n_nu = size.x, n_mu_s = size.y;
@@ -160,7 +192,8 @@ vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, f
         vec4 b = texture(table, vec3((base + s0 + 1.5) / (n_nu * n_mu_s), uvwz.z, z));
         slices[dn] = geometric_blend(a, b, fs);
     }
-    return n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
+    vec4 blended = n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
+    return blended * ground_row_factor(a, mu, intersects_ground, size.w, g);
 }
 
 // In-scattered radiance of group g: single scattering with its phases plus multiple scattering

@@ -87,6 +87,12 @@ def reference_rays(n_examples):
            special=st.sampled_from(["random", "sun", "anti-sun", "zenith", "horizon", "behind the planet"]))
     @example(alt=1.0, up=np.array([0.0, -1.0, 0.0]), view=np.array([1.0, 0.0, 0.0]),
              sun=np.array([0.9701425, 0.24253563, 0.0]), kind="random", special="random")
+    # CI's long run: a ray tangent to the ground read as hitting it by the quadrature and as missing it by the
+    # Monte Carlo solver (0.088 against 0.036 at 440 nm), which normalised the direction again and so changed
+    # its last bit; both normalise alike now (1.4% of tangent rays flipped)
+    @example(alt=1.0, up=np.array([-0.6873966272441575, -0.5950153185186051, 0.4164644613668252]),
+             view=np.array([-0.10708092147336722, 2.914125888022547, 0.926342075423221]),
+             sun=np.array([0.0, 0.0, 1.0]), kind="tangent to the ground", special="zenith")
     def check(alt, up, view, sun, kind, special):
         # The reference solver anywhere: its Monte Carlo estimate (single scattering and the directly lit ground
         # only) against the deterministic single-scattering quadrature of reference/single.py, two independent
@@ -186,14 +192,14 @@ def test_transmittance_never_increases_along_a_ray(alt, mu):
     assert np.all(np.diff(t, axis=0) <= 1e-2)
 
 
-def _single_scattering_error(alt, mus):
+def _single_scattering_error(alt, mus, sun_deg=(5, 20, 60)):
     """Per ray, the largest relative error over the wavelengths of the draft tables' single scattering and
     directly lit ground (the multiple-scattering and sky-irradiance tables set to 0) against the deterministic
     quadrature of reference/single.py, from altitude ``alt`` at view cosines ``mus``, 5 azimuths and the sun at
-    5, 20 and 60 deg."""
+    the elevations ``sun_deg``."""
     single = replace(TABLES, multiple=np.zeros_like(TABLES.multiple), multiple_mie=np.zeros_like(TABLES.multiple_mie),
                      irradiance=np.zeros_like(TABLES.irradiance))
-    mu, az, el = (a.ravel() for a in np.meshgrid(mus, np.radians([0, 45, 90, 135, 180]), np.radians([5, 20, 60]),
+    mu, az, el = (a.ravel() for a in np.meshgrid(mus, np.radians([0, 45, 90, 135, 180]), np.radians(sun_deg),
                                                  indexing="ij"))
     views = np.stack([np.sqrt(1 - mu ** 2) * np.cos(az), np.sqrt(1 - mu ** 2) * np.sin(az), mu], 1)
     suns = np.stack([np.cos(el), np.zeros_like(el), np.sin(el)], 1)
@@ -204,6 +210,17 @@ def _single_scattering_error(alt, mus):
     return np.max(np.abs(got - want) / want, axis=1)
 
 
+@pytest.mark.parametrize("alt", [1e-3, 2.0, 100.0, 200.0])
+def test_ground_rays_from_below_the_first_row_saturate(alt):
+    # Ground rays 1e-6 to 1e-2 (in mu) below the horizon's direction from cameras below the draft tables' first
+    # row above the ground (240 m), whose reading the ground row would otherwise make proportional to the ray's
+    # length (lookup.ground_row_factor), single scattering against the reference quadrature, the sun 5, 20 and
+    # 60 deg up. Measured: 0.7%, 5.9%, 5.0%, 2.5% (the sun 5 deg up: the source function changes along row 1's
+    # 58 km ray as the sun sinks toward its horizon); without the correction 6%, 46%, 26%, 11%. Bound 8%.
+    mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
+    assert _single_scattering_error(alt, mu_h - np.logspace(-6, -2, 9)).max() < 0.08
+
+
 def _seam_xfail(alt, measured):
     return pytest.param(alt, marks=pytest.mark.xfail(strict=True, reason=(
         f"HORIZON_SEAM: from {alt:g} m the tables' error next to the horizon's direction is {measured} "
@@ -211,16 +228,17 @@ def _seam_xfail(alt, measured):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("alt", [_seam_xfail(2.0, "46% against 2% elsewhere"),
-                                 _seam_xfail(100.0, "26% against 4% elsewhere"), 1e3, 1e4,
+@pytest.mark.parametrize("alt", [_seam_xfail(2.0, "5.9% against 1.8% elsewhere"),
+                                 _seam_xfail(100.0, "5.0% against 3.9% elsewhere"), 1e3, 1e4,
                                  _seam_xfail(3e4, "8.4% against 5.4% elsewhere"), 5e4])
 def test_no_seam_at_the_horizon_beyond_the_tables_interpolation_error(alt):
     # Rays 1e-6 to 1e-2 (in mu) either side of the horizon's direction, where the tables switch between their
     # ground and sky halves, against rays at least 0.05 away from it: the error there (single scattering against
     # the reference quadrature, draft tables) is the tables' own interpolation error; next to the horizon it may
     # not be larger. Slack 25%: the largest of ~100 errors is itself a sample statistic that moves by that much
-    # between sets of rays. Measured (draft): 2 m 46% / 2.0%, 100 m 26% / 3.7%, 1 km 2.7% / 2.5%, 10 km 2.8% /
-    # 2.4%, 30 km 8.4% / 5.4%, 50 km 15.6% / 12.7% (near / away).
+    # between sets of rays. Measured (draft): 2 m 5.9% / 1.8%, 100 m 5.0% / 3.9% (46% / 2.0% and 26% / 3.7%
+    # before lookup.ground_row_factor), 1 km 2.7% / 2.5%, 10 km 2.8% / 2.4%, 30 km 8.4% / 5.4%, 50 km 15.6% /
+    # 12.7% (near / away).
     mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
     d = np.logspace(-6, -2, 9)
     near = _single_scattering_error(alt, np.concatenate([mu_h - d, mu_h + d]))

@@ -15,10 +15,14 @@ from .optical_depth import _nodes, optical_depth, shell_segment, sun_transmittan
 
 
 def single_scattering(atm, camera, view_dir, sun_dir, panels: int = 24):
-    """(in-scattered radiance, directly lit ground radiance), each (N, W), for unit rays."""
+    """(in-scattered radiance, directly lit ground radiance), each (N, W). The directions are normalised here
+    exactly as :func:`~planetviz.reference.montecarlo.solve` normalises them, so that both classify a ray
+    tangent to the ground alike (bit for bit: a tangent ray's ground hit turns on the last bit of its direction)."""
     c = np.atleast_2d(np.asarray(camera, dtype=float))
     v = np.atleast_2d(np.asarray(view_dir, dtype=float))
+    v = v / np.linalg.norm(v, axis=-1, keepdims=True)
     s = np.broadcast_to(np.asarray(sun_dir, dtype=float), c.shape)
+    s = s / np.linalg.norm(s, axis=-1, keepdims=True)
     start, end = shell_segment(c, v, atm.top_radius_m)
     t_ground = distance_to_ground(c, v, atm.bottom_radius_m)
     end = np.minimum(end, t_ground)

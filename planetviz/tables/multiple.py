@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .lookup import (ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
-                     get_transmittance_to_sun)
+                     get_transmittance_to_sun, ground_row_factor)
 from .parameterization import (distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
@@ -61,6 +61,7 @@ class _Incident:
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
         self.forward = None
         self.stencil = ScatteringStencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
+        self.row_factor = ground_row_factor(tables, self.r, self.mu, self.ground, ms_shape[0])
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
             d = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
@@ -80,7 +81,8 @@ class _Incident:
             W = both.shape[-1] // 2
             if self.forward is None:                  # the same every order: computed once
                 self.forward = forward_factor(atm, self.nu)
-            sky = both[..., :W] + self.forward * both[..., W:]
+            # get_scattering's correction near the ground, on both halves [S_R, S_M / F]
+            sky = (both[..., :W] + self.forward * both[..., W:]) * self.row_factor
         if not self.with_ground:
             return sky
         bottom = np.full(self.mu_s_g.shape, tables.bottom)
