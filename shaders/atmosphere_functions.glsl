@@ -150,7 +150,8 @@ vec4 one_minus_exp(vec4 x) {
     return mix(1.0 - exp(-x), x * (1.0 - x * (0.5 - x / 6.0)), lessThan(x, vec4(1e-2)));
 }
 
-// The factor on a 4D table of n_r rows read at (a, mu) for ground rays from below its first row above the ground:
+// The factor on what get_scattering reads from a 4D table of n_r rows at (a, mu), for ground rays from below its
+// first row above the ground:
 // (1 - exp(-k tau_1)) / (f (1 - exp(-tau_1))), k / f where tau_1 = 0; 1 for every other ray. f: the camera's
 // fraction of the way to row 1; k = d / d_1 and tau_1: the ratio of the ray's length to that of row 1's ray at
 // the same u_mu, and that ray's optical depth (planetviz/tables/lookup.py ground_row_factor says why).
@@ -172,8 +173,7 @@ vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, int
 }
 
 // The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel
-// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu, times
-// ground_row_factor.
+// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu.
 vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, float nu, bool intersects_ground,
                     int g) {
     float n_nu = size.x, n_mu_s = size.y;
@@ -192,18 +192,17 @@ vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, f
         vec4 b = texture(table, vec3((base + s0 + 1.5) / (n_nu * n_mu_s), uvwz.z, z));
         slices[dn] = geometric_blend(a, b, fs);
     }
-    vec4 blended = n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
-    return blended * ground_row_factor(a, mu, intersects_ground, size.w, g);
+    return n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
 }
 
-// In-scattered radiance of group g: single scattering with its phases plus multiple scattering
-// (the evaluator's _phased).
+// In-scattered radiance of group g: single scattering with its phases plus multiple scattering, each with its
+// tables' ground_row_factor (the evaluator's _phased).
 vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
     vec4 s_r = get_scattering(single_rayleigh_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
     vec4 s_m = get_scattering(single_mie_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
     vec4 s_ms = get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);
     vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);
-    return s_r * rayleigh_like_phase(nu)
-        + s_m * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
-        + s_ms + forward_factor(nu, g) * s_ms_mie;
+    return (s_r * rayleigh_like_phase(nu) + s_m * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g]))
+               * ground_row_factor(a, mu, intersects_ground, single_size.w, g)
+        + (s_ms + forward_factor(nu, g) * s_ms_mie) * ground_row_factor(a, mu, intersects_ground, multiple_size.w, g);
 }

@@ -8,7 +8,6 @@ import pytest
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
-from planetviz import load_atmosphere  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 
 SIZE = (64, 48)
@@ -184,7 +183,7 @@ def test_tables_are_uploaded_as_32_bit_float_textures(earth):
 
 
 def test_no_jitter_two_metres_above_the_ground_and_no_jump_at_the_top(earth):
-    R, top = earth.atmosphere.bottom_radius_m, earth.atmosphere.top_radius_m
+    top = earth.atmosphere.top_radius_m
     earth.set_sun(elevation=25, azimuth=90)
     # 2 m above the ground, looking along the horizon: moving 1 cm must not change the picture (float32
     # positions at 6.4e6 m are 0.5 m apart: a renderer working in absolute coordinates jitters here).

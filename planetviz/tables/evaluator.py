@@ -19,7 +19,7 @@ from ..geometry import ray_sphere
 from ..queries import validate_queries
 from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
-from .lookup import (get_irradiance, get_scattering, get_transmittance,
+from .lookup import (get_irradiance, get_scattering, get_transmittance, ground_row_factor,
                      get_transmittance_to_sun, get_transmittance_to_top_atmosphere_boundary)
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
@@ -32,7 +32,10 @@ def _phased(tables, atm, r, mu, mu_s, nu, ground):
     else:
         s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground)
                                     for table in (tables.rayleigh, tables.mie, tables.multiple, tables.multiple_mie))
-        s_ms = s_ms + forward_factor(atm, nu) * s_ms_mie
+        single_factor, multiple_factor = (ground_row_factor(tables, r, mu, ground, table.shape[0])
+                                          for table in (tables.rayleigh, tables.multiple))
+        s_r, s_m = s_r * single_factor, s_m * single_factor
+        s_ms = (s_ms + forward_factor(atm, nu) * s_ms_mie) * multiple_factor
     return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu) + s_ms
 
 

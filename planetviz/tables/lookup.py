@@ -57,9 +57,11 @@ def one_minus_exp(x):
 
 
 def ground_row_factor(t, r, mu, intersects_ground, n_r):
-    """(..., W) factor on a 4D table of ``n_r`` rows read at (r, mu) by :func:`get_scattering`: for ground rays
-    from below the table's first row above the ground, the correction of the linear interpolation between the
-    ground row and that row; 1 for every other ray ((..., 1) where no ray needs it).
+    """(..., W) factor on what :func:`get_scattering` reads from a 4D table of ``n_r`` rows at (r, mu) (every
+    reader applies it: the evaluator, the precompute's reads of each order, the compact tables, the shaders'
+    get_phased_scattering): for ground rays from below the table's first row above the ground, the correction of
+    the linear interpolation between the ground row and that row; 1 for every other ray ((..., 1) where no ray
+    needs it).
 
     The ground row's ground rays have zero length and hold 0, so interpolating in u_r reads f S_1, f the
     camera's fraction of the way to row 1 and S_1 the in-scattering of row 1's ray at the same u_mu: as if
@@ -189,8 +191,7 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
     for dn in (0, 1) if n_nu > 1 else (0,):
         base = (tex_nu + dn).astype(np.int64) * n_mu_s
         slices.append(geometric_blend(bilinear(base + s0), bilinear(base + s1), fs))
-    blended = slices[0] if n_nu == 1 else geometric_blend(slices[0], slices[1], lerp)
-    return blended * ground_row_factor(t, r, mu, intersects_ground, n_r)
+    return slices[0] if n_nu == 1 else geometric_blend(slices[0], slices[1], lerp)
 
 
 def geometric_blend(a, b, f):

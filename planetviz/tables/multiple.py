@@ -61,7 +61,9 @@ class _Incident:
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
         self.forward = None
         self.stencil = ScatteringStencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
-        self.row_factor = ground_row_factor(tables, self.r, self.mu, self.ground, ms_shape[0])
+        # lookup.ground_row_factor of the single and the multiple-scattering tables at these points
+        self.single_factor = ground_row_factor(tables, self.r, self.mu, self.ground, tables.rayleigh.shape[0])
+        self.multiple_factor = ground_row_factor(tables, self.r, self.mu, self.ground, ms_shape[0])
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
             d = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
@@ -75,14 +77,13 @@ class _Incident:
             sky = (get_scattering(tables, tables.rayleigh, self.r, self.mu, self.mu_s, self.nu, self.ground)
                    * atm.rayleigh.phase_function(self.nu)[..., None]
                    + get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground)
-                   * atm.mie.phase_function(self.nu))
+                   * atm.mie.phase_function(self.nu)) * self.single_factor
         else:
             both = self.stencil.apply(ms_prev)
             W = both.shape[-1] // 2
             if self.forward is None:                  # the same every order: computed once
                 self.forward = forward_factor(atm, self.nu)
-            # get_scattering's correction near the ground, on both halves [S_R, S_M / F]
-            sky = (both[..., :W] + self.forward * both[..., W:]) * self.row_factor
+            sky = (both[..., :W] + self.forward * both[..., W:]) * self.multiple_factor
         if not self.with_ground:
             return sky
         bottom = np.full(self.mu_s_g.shape, tables.bottom)
