@@ -93,6 +93,8 @@ def reference_rays(n_examples):
     @example(alt=1.0, up=np.array([-0.6873966272441575, -0.5950153185186051, 0.4164644613668252]),
              view=np.array([-0.10708092147336722, 2.914125888022547, 0.926342075423221]),
              sun=np.array([0.0, 0.0, 1.0]), kind="tangent to the ground", special="zenith")
+    @example(alt=10.0 ** 6.25, up=np.array([2.0, 0.0, 1.0]) / np.sqrt(5.0), view=np.array([1.0, 0.0, 0.0]),
+             sun=np.array([0.0, 0.0, -1.0]), kind="tangent to the ground", special="random")
     def check(alt, up, view, sun, kind, special):
         # The reference solver anywhere: its Monte Carlo estimate (single scattering and the directly lit ground
         # only) against the deterministic single-scattering quadrature of reference/single.py, two independent
@@ -114,8 +116,15 @@ def reference_rays(n_examples):
         exact = scatter + ground
         _check(mc.radiance, mc.transmittance)
         _check(exact, mc.transmittance)
-        assert np.all(np.abs(mc.radiance - exact) <= 5 * mc.stderr + 1e-3 * exact + 1e-5), (mc.radiance, mc.stderr,
-                                                                                                exact)
+        # A ray exactly tangent to the ground touches it or not by the last bit of the arithmetic, and the two
+        # solvers' array shapes round differently (CI's long run: from 1.8e6 m, 0.223 against 0.183 at 680 nm,
+        # the quadrature stopping at the tangent point): there the estimate must match the quadrature of the ray
+        # 1e-9 rad above (5 mm clear of the ground) or below (into it), one side or the other.
+        sides = [exact]
+        if kind == "tangent to the ground" and r > R:
+            sides += [sum(single_scattering(EARTH, [r * up], [view + tilt * up], sun)) for tilt in (1e-9, -1e-9)]
+        assert any(np.all(np.abs(mc.radiance - e) <= 5 * mc.stderr + 1e-3 * e + 1e-5) for e in sides), \
+            (mc.radiance, mc.stderr, sides)
     return check
 
 
