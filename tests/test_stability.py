@@ -110,6 +110,11 @@ def reference_rays(n_examples):
                "horizon": sun - (sun @ up) * up}.get(special, sun)
         if np.linalg.norm(sun) < 1e-6:
             return
+        if kind == "tangent to the ground" and special in ("sun", "anti-sun"):
+            # The sun along a tangent view is tangent at every point of the path, each point's shadow settled by
+            # its own last bit (CI's long run: 337 km up, the estimate 0.041 between the lit 0.056 and the dark
+            # 0); 1e-6 rad up, its rays clear the ground by metres.
+            sun = sun + 1e-6 * up
         sun = sun / np.linalg.norm(sun)
         mc = solve(EARTH, [r * up], [view], sun, samples=1024, seed=1, max_order=1)
         scatter, ground = single_scattering(EARTH, [r * up], [view], sun)
