@@ -3,7 +3,7 @@ colour-science: what the stripped VTK bundle of ../shared/notes/gpu-timing.md of
 
     python benchmarks/gpu_render_timing.py prepare gpu-tables.npz          # here: Earth's standard tables
     python benchmarks/gpu_render_timing.py run gpu-tables.npz [--sizes 1280x720 1920x1080] [--frames 100]
-    python benchmarks/gpu_render_timing.py breakdown gpu-tables.npz --sizes 1920x1080
+    python benchmarks/gpu_render_timing.py breakdown gpu-tables.npz --sizes 1920x1080 [--repeats 3]
 
 ``prepare`` stores the packed tables and the shader's constant uniforms (which need colour-science);
 ``run`` builds a window, the same ``AtmosphereActor`` the application uses, and times, per size: a plain
@@ -233,9 +233,8 @@ def run(path, sizes, frames):
 BREAKDOWN = {
     "ground pixels return a constant (the floor of the design)":
         ("ground = ray_hits_ground(ray);", "ground = ray_hits_ground(ray); if (ground) return vec4(0.5);"),
-    "ground light a constant (texture, albedo, display kept)":
-        ("* get_ground_light(ray, g)", "* vec4(0.1)"),
-    "surface colour a constant": ("surface_colour(ground_point(ray))", "vec3(0.5)"),
+    "surface colour a constant": ("surface_colour_or_unit(n)", "vec3(0.5)"),
+    "no tone mapping or sRGB encoding": ("vec4(display_colour(value), 1.0)", "vec4(value, 1.0)"),
 }
 
 
@@ -290,6 +289,11 @@ def breakdown(path, size, frames, repeats=3):
     for name, rows in times.items():
         orbit, ground = np.median(np.array(rows), axis=0)
         print(f"| {name} | {orbit:.2f} | {ground:.2f} |")
+    # The ratio: each view's per-vertex frame over the plain sphere's orbit frame of the same repeat.
+    ratio = np.array(times["per vertex"]) / np.array(times["plain textured sphere"])[:, :1]
+    print(f"\nper vertex / plain textured sphere (orbit framing), {repeats} interleaved repeats: median "
+          + ", ".join(f"{name} {np.median(r):.2f} (range {r.min():.2f}-{r.max():.2f})"
+                      for name, r in zip(views, ratio.T)))
 
 
 def main():
@@ -298,6 +302,7 @@ def main():
     ap.add_argument("path")
     ap.add_argument("--sizes", nargs="+", default=["1280x720", "1920x1080", "3840x2160"])
     ap.add_argument("--frames", type=int, default=100)
+    ap.add_argument("--repeats", type=int, default=3, help="breakdown: interleaved repeats")
     args = ap.parse_args()
     if args.mode == "prepare":
         prepare(args.path)
@@ -307,7 +312,7 @@ def main():
             run(args.path, args.sizes, args.frames)
         else:
             for size in args.sizes:
-                breakdown(args.path, size, args.frames)
+                breakdown(args.path, size, args.frames, args.repeats)
 
 
 if __name__ == "__main__":

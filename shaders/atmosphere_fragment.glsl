@@ -11,8 +11,7 @@
 vec4 radiance(ViewRay ray, int g) {
     vec4 l = get_inscatter(ray, g);
     if (ray_hits_ground(ray)) {
-        l += albedo_from_colour(use_surface_texture == 1 ? surface_colour(ground_point(ray)) : vec3(0.0), g)
-             * get_ground_light(ray, g);
+        l += albedo_from_colour(surface_colour_or_unit(normalize(ground_point(ray))), g) * get_ground_light(ray, g);
     } else if (in_sun_disc(ray.v)) {
         l += get_sun_transmittance(ray, g) / sun_solid_angle;
     }

@@ -3,9 +3,10 @@
 // (planetviz/tables/evaluator.py, sky_radiance):
 //   L = inscatter + albedo * ground_light + [the ray is in the sun's disc] sun_transmittance / sun_solid_angle
 // The per-pixel renderer (atmosphere_fragment.glsl) evaluates all three for every pixel. The per-vertex renderer
-// evaluates the inscatter (the 4D tables: most of the cost) at the vertices of a direction mesh
-// (atmosphere_vertex.glsl) and the rest, which changes faster across the screen (the texture, the terminator on
-// the ground, the disc) but reads only 2D tables, per pixel (atmosphere_interpolated.glsl).
+// evaluates them at the vertices of a direction mesh (atmosphere_vertex.glsl: the 4D tables, most of the cost, and
+// the ground's light split by the sun's cosine) and completes per pixel (atmosphere_interpolated.glsl) what
+// changes faster across the screen: the surface texture, the sun's cosine at the ground point (the terminator),
+// the disc; no table is read per pixel there.
 //
 // Uniforms:
 //   camera_position        vec3   planet-centred camera position [m] (float: for directions and the ground point's
@@ -85,10 +86,18 @@ bool ray_hits_ground(ViewRay ray) { return ray.visible && ray_intersects_ground(
 // Where the ray meets the ground (planet-centred, [m]); only meaningful where ray_hits_ground.
 vec3 ground_point(ViewRay ray) { return ray.x + distance_to_bottom_atmosphere_boundary(ray.a, ray.mu) * ray.v; }
 
-// The ground's albedo of group g for the linear colour c of the surface texture at the ground point.
+// Group g's albedo for each unit of component k (0, 1, 2) of the surface colour: the albedo is linear in the
+// texture's linear colour c (albedo_from_colour); with no texture, the file's albedo is component 0 of the colour
+// (1, 0, 0) (surface_colour_or_unit).
+vec4 albedo_column(int k, int g) {
+    if (use_surface_texture == 1) return albedo_weights[3 * g + k];
+    return k == 0 ? surface_albedo[g] : vec4(0.0);
+}
+
+// The ground's albedo of group g for the colour c: the linear colour of the surface texture at the ground point,
+// or (1, 0, 0) with no texture.
 vec4 albedo_from_colour(vec3 c, int g) {
-    if (use_surface_texture == 0) return surface_albedo[g];
-    return albedo_weights[3 * g] * c.r + albedo_weights[3 * g + 1] * c.g + albedo_weights[3 * g + 2] * c.b;
+    return albedo_column(0, g) * c.r + albedo_column(1, g) * c.g + albedo_column(2, g) * c.b;
 }
 
 // Where a ground ray ends: its length d and (mu, mu_s) at the ground point (altitude 0).

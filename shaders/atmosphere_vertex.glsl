@@ -1,17 +1,57 @@
 // The table-based renderer per vertex (after atmosphere_ray.glsl): for the direction from the camera to a vertex
-// of the direction mesh around the camera, the inscatter of atmosphere_ray.glsl (the 4D tables) and the sun
-// disc's radiance, summed over the wavelength groups into the three output channels, for
-// atmosphere_interpolated.glsl to interpolate over the triangles and complete per pixel.
+// of the direction mesh around the camera, the inscatter of atmosphere_ray.glsl (the 4D tables), the sun disc's
+// radiance and the light the ground sends toward the camera, summed over the wavelength groups into the three
+// output channels, for atmosphere_interpolated.glsl to interpolate over the triangles and complete per pixel.
 //
 // Uniforms: those of the files before it, and
 //   sun_solid_angle        float  solid angle of the sun's disc [sr]
-// Outputs (output channels as output_mode says): mesh_inscatter (vec3), mesh_sun (vec3: the disc's radiance
-// T / sun_solid_angle along this direction).
+// The constant sky_part (planetviz/render/direction_mesh.py) is true in the part of the mesh whose rays all miss
+// the ground, where the ground's light is left out.
+// Outputs (output channels as output_mode says):
+//   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays)
+//   mesh_sun           vec3  the disc's radiance T / sun_solid_angle along this direction
+//   mesh_ground_sky    mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
+//                            unit of component k of the surface colour (surface_colour_or_unit)
+//   mesh_ground_sun    mat3  column k: the same lit by the sun, T(x, y) albedo T_sun(y) / pi, per unit of
+//                            max(n . s, 0), which the pixel multiplies in (the terminator stays sharp)
+// For a ray that misses the ground the ground's terms are those of the grazing ray at the same azimuth, so a
+// triangle straddling the limb interpolates toward the ground's value at the horizon.
 
 uniform float sun_solid_angle;
 
 out vec3 mesh_inscatter;
 out vec3 mesh_sun;
+out mat3 mesh_ground_sky;
+out mat3 mesh_ground_sun;
+
+// v, or for a ray that misses the ground the ray tangent to it in the plane of v and the nadir (v itself
+// straight up, where that plane is undefined).
+vec3 ground_or_grazing(ViewRay ray) {
+    if (ray_hits_ground(ray)) return ray.v;
+    vec3 down = -normalize(camera_position);
+    vec3 side = ray.v - dot(ray.v, down) * down;
+    float s = length(side);
+    if (s == 0.0) return ray.v;
+    float r = radius_of(camera_altitude);
+    return down * (rho_of(camera_altitude) / r) + side * (bottom_radius / (r * s));
+}
+
+void ground_light_columns(ViewRay ray) {
+    mesh_ground_sky = mat3(0.0);
+    mesh_ground_sun = mat3(0.0);
+    if (sky_part) return;
+    ViewRay grazing = view_ray(ground_or_grazing(ray));
+    GroundHit h = ground_hit(grazing);
+    for (int g = first_group(); g <= last_group(); ++g) {
+        vec4 t = get_transmittance(grazing.a, grazing.mu, h.d, true, g) / PI;
+        vec4 sky = t * get_irradiance(0.0, h.mu_s, g);
+        vec4 sun = t * get_transmittance_to_top_atmosphere_boundary(0.0, max(h.mu_s, 0.0), g);
+        for (int k = 0; k < 3; ++k) {
+            mesh_ground_sky[k] += to_channels(albedo_column(k, g) * sky, g);
+            mesh_ground_sun[k] += to_channels(albedo_column(k, g) * sun, g);
+        }
+    }
+}
 
 void atmosphere_vertex(vec3 vertex_position) {
     ViewRay ray = view_ray(normalize(vertex_position - camera_position));
@@ -21,4 +61,5 @@ void atmosphere_vertex(vec3 vertex_position) {
         mesh_inscatter += to_channels(get_inscatter(ray, g), g);
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;
     }
+    ground_light_columns(ray);
 }

@@ -178,7 +178,7 @@ def test_tables_are_uploaded_as_32_bit_float_textures(earth):
     textures = earth.planet.textures._textures
     assert textures is not None
     for name, tex in textures.items():
-        if name != "surface_texture":
+        if name != "surface_faces":
             assert tex.GetVTKDataType() == VTK_FLOAT and tex.GetComponents() == 4, name
 
 

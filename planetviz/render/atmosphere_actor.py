@@ -23,6 +23,7 @@ from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 from ..color import albedo_matrix
 from ..tables.parameterization import MU_S_MIN
 from .shaders import shader_code
+from .surface import surface_cube
 from .textures import MAX_GROUPS, group_count, pack_2d, pack_3d, pad_groups, upload
 from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camera_uniforms, draw_uniforms,
                        frame_key)
@@ -58,7 +59,14 @@ class TableTextures:
             "multiple_size": ("4f", (sm[2], sm[3], sm[1], sm[0])),
             "albedo_weights": ("4fv", alb_w.reshape(-1, 4)),
             "use_surface_texture": ("i", int(self.surface is not None)),
+            "surface_face_size": ("f", self._cube().shape[1] - 2),
         }
+
+    def _cube(self):
+        """The surface map on the faces of a cube (planetviz/render/surface.py), or a black 1-texel cube."""
+        if self.surface is None:
+            return np.zeros((6, 3, 3, 3), np.uint8)
+        return surface_cube(self.surface)
 
     def bind(self, program, render_window):
         """Upload the textures on first use, activate them and point the samplers at them."""
@@ -71,9 +79,7 @@ class TableTextures:
                 "single_mie_texture": upload(render_window, pack_3d(t.mie), half_float=half),
                 "multiple_texture": upload(render_window, pack_3d(t.multiple), half_float=half),
                 "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half)}
-            surface = self.surface if self.surface is not None else np.zeros((1, 1, 3), np.uint8)
-            self._textures["surface_texture"] = upload(render_window, np.ascontiguousarray(surface[::-1]),
-                                                       repeat_x=True, srgb=True)
+            self._textures["surface_faces"] = upload(render_window, self._cube(), srgb=True, layers=True)
         for name, tex in self._textures.items():
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())

@@ -50,8 +50,9 @@ GL_RGBA16F = 0x881A
 GL_SRGB8 = 0x8C41
 
 
-def upload(render_window, image, repeat_x=False, half_float=False, srgb=False):
-    """A ``vtkTextureObject`` holding ``image``: (h, w, c) -> 2D, (d, h, w, c) -> 3D; float32 or uint8 data;
+def upload(render_window, image, repeat_x=False, half_float=False, srgb=False, layers=False):
+    """A ``vtkTextureObject`` holding ``image``: (h, w, c) -> 2D, (d, h, w, c) -> 3D, or with ``layers`` a 2D
+    array texture of d layers (each filtered on its own); float32 or uint8 data;
     linear filtering, clamped to the edge (``repeat_x``: wrap along x, for a longitude axis). ``half_float``
     stores float data as 16-bit floats on the GPU (benchmarks/gpu_render_timing.py compares the two); ``srgb``:
     (h, w, 3) uint8 sRGB-encoded colours, which the GPU decodes to linear (exactly, from the 8-bit values) before
@@ -69,6 +70,9 @@ def upload(render_window, image, repeat_x=False, half_float=False, srgb=False):
     if data.ndim == 3:
         h, w, c = data.shape
         ok = tex.Create2DFromRaw(w, h, c, kind, data)
+    elif layers:
+        d, h, w, c = data.shape
+        ok = tex.Create2DArrayFromRaw(w, h, c, kind, d, data)
     else:
         d, h, w, c = data.shape
         ok = tex.Create3DFromRaw(w, h, d, c, kind, data)
