@@ -128,14 +128,6 @@ def test_space_is_black_away_from_the_planet_and_the_night_side_is_dark(earth):
     assert night[disc].max() < 1e-4 * day[disc].mean()
 
 
-MARS_TABLE_1_PHASE = pytest.mark.xfail(strict=True, reason=(
-    "known defect of the mars preset (docs/physics.md, Table 1 Mars phase): with Table 1's double "
-    "Henyey-Greenstein parameters as printed, 550 nm has a g = 0.89 lobe and 440 nm is nearly isotropic, so the "
-    "reference solver itself gives a pink-purple noon sky (zenith sRGB 209, 220, 132; 45 deg from the sun "
-    "142, 82, 128) and a yellow-green glow around the setting sun instead of a blue one"))
-
-
-@MARS_TABLE_1_PHASE
 def test_mars_sky_is_red_brown_at_noon_and_blue_around_the_setting_sun(mars):
     mars.view_from_ground(latitude=0, heading=0, pitch=30, fov=60)
     mars.set_sun(elevation=70, azimuth=180)

@@ -100,7 +100,7 @@ def forward_factor(atm, nu):
     itself is the lobe of g^2).
 
     The particles' share of the scattering density and of the multiple-scattering table is stored divided
-    by F(nu) and multiplied back on reading: with a forward lobe like Mars dust's (g = 0.89) the raw values
+    by F(nu) and multiplied back on reading: with a forward lobe like Mars dust's (g = 0.88) the raw values
     peak so sharply toward the sun that interpolating them between texels 20 deg apart mixes the peak into
     other directions; divided by F they vary slowly. A backward lobe (g < 0) counts as isotropic: its light
     turns back with each order (twice is forward, three times backward again), so no single lobe describes it,
