@@ -273,11 +273,14 @@ def test_forward_factor_is_a_normalised_lobe_with_the_squared_asymmetry(name):
 
 @pytest.mark.slow
 def test_second_order_under_a_sharp_forward_lobe_matches_a_direct_integration():
-    # Mars at 550 nm (96% of the phase in a g = 0.88 lobe), from the ground looking 45 deg up away from the
+    # Mars (95-97% of the phase in g = 0.86-0.91 lobes), from the ground looking 45 deg up away from the
     # sun: order 2 alone from the tables against a direct integration along the ray (the order-1 sky read
     # from the same tables on a 32x64 direction grid at 16 points, exact transmittance). Before the forward
-    # lobe was factored out of the tables this ray read 3.3x the direct value; bound 15% (the tables'
-    # 10x10 direction quadrature and 4-texel nu axis against a 32x64 grid).
+    # lobe was factored out of the tables this ray read 3.3x the direct value (with Table 1's printed phase,
+    # one such lobe at 550 nm). Measured with the preset's Mie-derived phase: 16.5%, 14.9%, 14.1% below the
+    # direct value at 680, 550, 440 nm (within 15% with Table 1's phase); a 24x24 direction quadrature in
+    # place of 10x10 moves it only to 14%, 11%, 10%: the rest is the Mars lobe's unisolated error of
+    # MARS_PEAK. Bound 20%: this test guards the factoring (a 3.3x error), the accuracy is MARS_PEAK's.
     from planetviz.optics.phase import rayleigh_phase
     from planetviz.reference import optical_depth
     from planetviz.tables.evaluator import _phased
@@ -317,4 +320,4 @@ def test_second_order_under_a_sharp_forward_lobe_matches_a_direct_integration():
             + (rayleigh_phase(cos)[:, None] * sky).sum(0) * dw * np.asarray(mars.rayleigh.scattering_m) \
             * mars.rayleigh.profile.density(h)[0]
         direct += wk * np.exp(-optical_depth(mars, cam[None], v[None], np.array([tk]))[0]) * j
-    assert np.allclose(lut2, direct, rtol=0.15), (lut2, direct)
+    assert np.allclose(lut2, direct, rtol=0.20), (lut2, direct)
