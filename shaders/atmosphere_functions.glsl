@@ -136,12 +136,15 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, 
 // decay beyond a, never above a.
 const float ZERO_FLOOR = 1e-3;
 vec4 geometric_blend(vec4 a, vec4 b, float f) {
-    vec4 lit = max(vec4(greaterThan(a, vec4(0.0))), vec4(greaterThan(b, vec4(0.0))));
+    bvec4 lit = bvec4(vec4(greaterThan(a, vec4(0.0))) + vec4(greaterThan(b, vec4(0.0))));
+    // mix with a bvec selects; with 0/1 float weights it is x + w (y - x), which NVIDIA's compiler evaluates as
+    // such: 1 + (1e-6 - 1) keeps 1e-6 to 6%, 1 + (1e-37 - 1) is 0, and a 0 here made log(0 / 0) NaN (twilight
+    // rays from space read 0 or NaN on an H100, benchmarks/gpu_agreement.py; llvmpipe computes it exactly).
     vec4 a_f = mix(vec4(1.0), max(max(a, ZERO_FLOOR * b), 1e-37), lit);
     vec4 b_f = mix(vec4(1.0), max(max(b, ZERO_FLOOR * a), 1e-37), lit);
-    vec4 geo = exp((1.0 - f) * log(a_f) + f * log(b_f));
-    if (f < 0.0) geo = min(geo, a_f);
-    return geo * lit;
+    vec4 ratio = b_f / a_f;                          // within [ZERO_FLOOR, 1 / ZERO_FLOOR]: no overflow below
+    if (f < 0.0) ratio = max(ratio, vec4(1.0));
+    return a_f * exp(f * log(ratio)) * vec4(lit);
 }
 
 // 1 - exp(-x) for x >= 0 without cancellation for small x (NumPy: -expm1(-x)); the series' error below 1e-2 is
