@@ -162,3 +162,45 @@ def test_sixty_four_wavelengths_render_as_the_evaluator_says():
                 assert err.max() < BOUND, (shading, view, err.max())
         finally:
             scene.close()
+
+
+
+COMPARISON = r"vec[234]\((?:greaterThan|lessThan|greaterThanEqual|lessThanEqual|equal|notEqual)\("
+
+
+def float_weighted_selects(code):
+    """The mix calls of GLSL ``code`` whose weight is a float vector made from a comparison, inline or through a
+    variable assigned one (a select written as arithmetic)."""
+    import re
+    masks = set(re.findall(r"\bvec[234]\s+(\w+)\s*=[^;]*" + COMPARISON, code))
+    found = []
+    for start in (m.end() for m in re.finditer(r"\bmix\(", code)):
+        depth, args, arg = 1, [], ""
+        for ch in code[start:]:
+            depth += (ch == "(") - (ch == ")")
+            if depth == 0 or (ch == "," and depth == 1):
+                args.append(arg.strip())
+                arg = ""
+                if depth == 0:
+                    break
+                continue
+            arg += ch
+        weight = args[-1]
+        if re.match(COMPARISON, weight) or weight in masks:
+            found.append("mix(" + ", ".join(args) + ")")
+    return found
+
+
+def test_no_float_weighted_select_in_the_shaders():
+    # mix(x, y, w) with w a float vector of 0s and 1s from a comparison is a select written as arithmetic, which
+    # NVIDIA's compiler evaluates as x + w (y - x): with x = 1 and y = 1e-37 that is 0, not y (log(0 / 0) then
+    # made twilight rays from orbit lose a wavelength on an H100: docs/stability.md). llvmpipe computes it
+    # exactly, so the renders here cannot show it; a select must be a boolean mix (mix(x, y, bvecN)).
+    from pathlib import Path
+    found = {path.name: float_weighted_selects(path.read_text())
+             for path in sorted(Path(__file__).resolve().parents[1].glob("shaders/*.glsl"))}
+    assert not any(found.values()), found
+    # The check finds the form that caused the bug (a float mask in a variable) and the inline one.
+    assert float_weighted_selects("vec4 lit = max(vec4(greaterThan(a, vec4(0.0))), vec4(greaterThan(b, vec4(0.0))));\n"
+                                  "vec4 a_f = mix(vec4(1.0), max(a, 1e-37), lit);")
+    assert float_weighted_selects("return mix(x, f(y, z), vec3(greaterThan(c, vec3(0.5))));")
