@@ -24,23 +24,23 @@ out vec3 mesh_sun;
 out mat3 mesh_ground_sky;
 out mat3 mesh_ground_sun;
 
-// v, or for a ray that misses the ground the ray tangent to it in the plane of v and the nadir (v itself
-// straight up, where that plane is undefined).
-vec3 ground_or_grazing(ViewRay ray) {
-    if (ray_hits_ground(ray)) return ray.v;
+// The ray itself where it meets the ground; otherwise the ray tangent to the ground in the plane of its direction
+// and the nadir (the ray itself straight up, where that plane is undefined).
+ViewRay ground_or_grazing(ViewRay ray) {
+    if (ray_hits_ground(ray)) return ray;
     vec3 down = -normalize(camera_position);
     vec3 side = ray.v - dot(ray.v, down) * down;
     float s = length(side);
-    if (s == 0.0) return ray.v;
+    if (s == 0.0) return ray;
     float r = radius_of(camera_altitude);
-    return down * (rho_of(camera_altitude) / r) + side * (bottom_radius / (r * s));
+    return view_ray(down * (rho_of(camera_altitude) / r) + side * (bottom_radius / (r * s)));
 }
 
 void ground_light_columns(ViewRay ray) {
     mesh_ground_sky = mat3(0.0);
     mesh_ground_sun = mat3(0.0);
     if (sky_part) return;
-    ViewRay grazing = view_ray(ground_or_grazing(ray));
+    ViewRay grazing = ground_or_grazing(ray);
     GroundHit h = ground_hit(grazing);
     for (int g = first_group(); g <= last_group(); ++g) {
         vec4 t = get_transmittance(grazing.a, grazing.mu, h.d, true, g) / PI;

@@ -119,7 +119,7 @@ def cube_face_uv(n, face_size):
 _CUBES = {}
 
 
-def surface_cube(image, face_size=None):
+def surface_cube(image):
     """The equirectangular sRGB ``image`` resampled onto the six faces of a cube: (6, n + 2, n + 2, 3) uint8 sRGB,
     layer order :data:`CUBE_FACES`, each face a gnomonic projection with a one-texel border holding what lies just
     beyond its edge, so bilinear filtering at an edge blends the right neighbours. The shaders read it with
@@ -127,7 +127,7 @@ def surface_cube(image, face_size=None):
     default n is 1.25 w / 4, a little finer than the map along the equator, where a face spans a quarter of it."""
     image = np.ascontiguousarray(image, dtype=np.uint8)
     h, w, _ = image.shape
-    n = face_size or max(4, round(1.25 * w / 4))
+    n = max(4, round(1.25 * w / 4))
     key = (hashlib.blake2b(image.data, digest_size=16).digest(), image.shape, n)
     if key not in _CUBES:
         if len(_CUBES) >= 4:                                 # a few maps are kept: building one takes ~0.7 s

@@ -50,10 +50,10 @@ GL_RGBA16F = 0x881A
 GL_SRGB8 = 0x8C41
 
 
-def upload(render_window, image, repeat_x=False, half_float=False, srgb=False, layers=False):
+def upload(render_window, image, half_float=False, srgb=False, layers=False):
     """A ``vtkTextureObject`` holding ``image``: (h, w, c) -> 2D, (d, h, w, c) -> 3D, or with ``layers`` a 2D
     array texture of d layers (each filtered on its own); float32 or uint8 data;
-    linear filtering, clamped to the edge (``repeat_x``: wrap along x, for a longitude axis). ``half_float``
+    linear filtering, clamped to the edge. ``half_float``
     stores float data as 16-bit floats on the GPU (benchmarks/gpu_render_timing.py compares the two); ``srgb``:
     (h, w, 3) uint8 sRGB-encoded colours, which the GPU decodes to linear (exactly, from the 8-bit values) before
     it filters them."""
@@ -80,7 +80,7 @@ def upload(render_window, image, repeat_x=False, half_float=False, srgb=False, l
         raise RuntimeError(f"could not create a {data.ndim - 1}D texture of shape {data.shape}")
     tex.SetMinificationFilter(vtkTextureObject.Linear)
     tex.SetMagnificationFilter(vtkTextureObject.Linear)
-    tex.SetWrapS(vtkTextureObject.Repeat if repeat_x else vtkTextureObject.ClampToEdge)
+    tex.SetWrapS(vtkTextureObject.ClampToEdge)
     tex.SetWrapT(vtkTextureObject.ClampToEdge)
     tex.SetWrapR(vtkTextureObject.ClampToEdge)
     return tex
