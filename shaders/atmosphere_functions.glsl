@@ -59,27 +59,22 @@ vec4 get_transmittance_to_top_atmosphere_boundary(float a, float mu, int g) {
     return exp(-get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
 }
 
-// tau between (a, mu) and the point at distance d: a difference of optical depths; ground rays use the reversed
-// ray. That point's altitude a_d from r_d^2 - R_b^2 = d (d + 2 r mu) + a (a + 2 R_b): no cancellation against R_b^2.
-vec4 get_optical_depth(float a, float mu, float d, bool intersects_ground, int g) {
+// tau between (a, mu) and the point at distance d on the ray's descending part (d <= -r mu): the reversed ray,
+// tau(a_d, -mu_d) - tau(a, -mu), as in the NumPy twin, whose other branches (rays up, rays past their lowest
+// point) no shader needs: every segment read here ends on the ground. a_d from r_d^2 - R_b^2 =
+// d (d + 2 r mu) + a (a + 2 R_b): no cancellation against R_b^2.
+vec4 get_optical_depth(float a, float mu, float d, int g) {
     float r = radius_of(a);
     float c_d = max(d * (d + 2.0 * r * mu) + a * (a + 2.0 * bottom_radius), 0.0);
     float r_d = sqrt(c_d + bottom_radius * bottom_radius);
     float a_d = min(c_d / (r_d + bottom_radius), top_radius - bottom_radius);
     float mu_d = clamp_cosine((r * mu + d) / radius_of(a_d));
-    vec4 near_tau, far_tau;
-    if (intersects_ground) {
-        near_tau = get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g);
-        far_tau = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
-    } else {
-        near_tau = get_optical_depth_to_top_atmosphere_boundary(a, mu, g);
-        far_tau = get_optical_depth_to_top_atmosphere_boundary(a_d, mu_d, g);
-    }
-    return max(near_tau - far_tau, 0.0);
+    return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g)
+               - get_optical_depth_to_top_atmosphere_boundary(a, -mu, g), 0.0);
 }
 
-vec4 get_transmittance(float a, float mu, float d, bool intersects_ground, int g) {
-    return exp(-get_optical_depth(a, mu, d, intersects_ground, g));
+vec4 get_transmittance(float a, float mu, float d, int g) {
+    return exp(-get_optical_depth(a, mu, d, g));
 }
 
 vec4 get_transmittance_to_sun(float a, float mu_s, int g) {
@@ -169,7 +164,7 @@ vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, int
     float a_1 = rho_1 * rho_1 / (sqrt(rho_1 * rho_1 + bottom_radius * bottom_radius) + bottom_radius);
     float d_1 = a_1 + x * (rho_1 - a_1);
     float mu_1 = clamp_cosine(-(rho_1 * rho_1 + d_1 * d_1) / (2.0 * radius_of(a_1) * d_1));
-    vec4 tau_1 = get_optical_depth(a_1, mu_1, d_1, true, g);
+    vec4 tau_1 = get_optical_depth(a_1, mu_1, d_1, g);
     float k = d / d_1;
     vec4 ratio = one_minus_exp(k * tau_1) / max(one_minus_exp(tau_1), vec4(1e-37));
     return mix(ratio, vec4(k), lessThanEqual(tau_1, vec4(0.0))) / f;

@@ -120,7 +120,7 @@ vec4 get_inscatter(ViewRay ray, int g) {
     vec4 l = get_phased_scattering(ray.a, ray.mu, ray.mu_s, ray.nu, ground, g);
     if (!ground) return l;
     GroundHit h = ground_hit(ray);
-    vec4 t_xy = get_transmittance(ray.a, ray.mu, h.d, true, g);
+    vec4 t_xy = get_transmittance(ray.a, ray.mu, h.d, g);
     return max(l - t_xy * get_phased_scattering(0.0, h.mu, h.mu_s, ray.nu, true, g), 0.0);
 }
 
@@ -130,7 +130,7 @@ vec4 get_ground_light(ViewRay ray, int g) {
     if (!ray_hits_ground(ray)) return vec4(0.0);
     GroundHit h = ground_hit(ray);
     vec4 sun = get_transmittance_to_sun(0.0, h.mu_s, g) * max(h.mu_s, 0.0);
-    return get_transmittance(ray.a, ray.mu, h.d, true, g) / PI * (sun + get_irradiance(0.0, h.mu_s, g));
+    return get_transmittance(ray.a, ray.mu, h.d, g) / PI * (sun + get_irradiance(0.0, h.mu_s, g));
 }
 
 // Transmittance from the camera to space along the ray, of group g (1 for rays that miss the atmosphere, 0 for

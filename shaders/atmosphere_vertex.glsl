@@ -43,7 +43,7 @@ void ground_light_columns(ViewRay ray) {
     ViewRay grazing = ground_or_grazing(ray);
     GroundHit h = ground_hit(grazing);
     for (int g = first_group(); g <= last_group(); ++g) {
-        vec4 t = get_transmittance(grazing.a, grazing.mu, h.d, true, g) / PI;
+        vec4 t = get_transmittance(grazing.a, grazing.mu, h.d, g) / PI;
         vec4 sky = t * get_irradiance(0.0, h.mu_s, g);
         vec4 sun = t * get_transmittance_to_top_atmosphere_boundary(0.0, max(h.mu_s, 0.0), g);
         for (int k = 0; k < 3; ++k) {

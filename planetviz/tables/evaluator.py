@@ -69,7 +69,7 @@ def sky_radiance(tables, atm, camera, view_dir, sun_dir):
         r_d = np.maximum(np.sqrt(d * d + 2 * r[g] * mu[g] * d + r[g] ** 2), tables.bottom)
         mu_d = np.clip((r[g] * mu[g] + d) / r_d, -1, 1)
         mu_s_d = np.clip((r[g] * mu_s[g] + d * nu[g]) / r_d, -1, 1)
-        t_xy = get_transmittance(tables, r[g], mu[g], d, np.ones(g.size, bool))
+        t_xy = get_transmittance(tables, r[g], mu[g], d)
         far = _phased(tables, atm, r_d, mu_d, mu_s_d, nu[g], np.ones(g.size, bool))
         albedo = np.asarray(atm.ground_albedo)
         sun_ground = get_transmittance_to_sun(tables, np.full(g.size, tables.bottom), mu_s_d) \

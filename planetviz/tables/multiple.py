@@ -68,7 +68,7 @@ class _Incident:
         if self.with_ground:
             d = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
             self.mu_s_g = np.clip((self.r * self.mu_s + d * self.nu) / tables.bottom, -1.0, 1.0)
-            t_g = get_transmittance(tables, self.r, self.mu, d, np.ones(shape, bool))
+            t_g = get_transmittance(tables, self.r, self.mu, d)
             self.ground_factor = np.where(self.ground[..., None], t_g * np.asarray(atm.ground_albedo) / np.pi, 0.0)
 
     def radiance(self, tables, atm, order, ms_prev, irr_prev):
@@ -190,7 +190,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     mu_t = np.clip((rr * mm + t) / r_t, -1.0, 1.0)
     mu_s_t = np.clip((rr * ss + t * nn) / r_t, -1.0, 1.0)
     path_stencil = ScatteringStencil(tables, shape, r_t, mu_t, mu_s_t, nn, gg)
-    path_weight = wt[..., None] * get_transmittance(tables, rr, mm, t, gg)
+    path_weight = wt[..., None] * get_transmittance(tables, rr, mm, t)
     h_t = r_t - tables.bottom
     # Node weights with each component's density folded in: (..., K, 2W) against J's 2W channels.
     node_weight = np.concatenate([path_weight * atm.rayleigh.profile.density(h_t)[..., None],

@@ -179,7 +179,7 @@ def single_scattering(tables: Tables, atm, progress=None):
                      distance_to_top_atmosphere_boundary(ri, mui, tables.top))
         t, w = ray_nodes(ri, mui, d, tables.sizes.scattering_samples)         # (n_mu, K)
         h = _altitude(ri[:, None], mui[:, None], t, tables.bottom)
-        view = get_transmittance(tables, ri[:, None], mui[:, None], t, gi[:, None])   # (n_mu, K, W)
+        view = get_transmittance(tables, ri[:, None], mui[:, None], t)   # (n_mu, K, W)
         dens_r = atm.rayleigh.profile.density(h)[..., None] * beta_r
         dens_m = atm.mie.profile.density(h)[..., None] * beta_m
         r_t = np.sqrt(np.maximum(t * t + 2 * ri[:, None] * mui[:, None] * t + ri[:, None] ** 2, 0.0))
