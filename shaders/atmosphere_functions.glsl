@@ -19,6 +19,12 @@
 //   single_mie_texture          sampler3D  S_M, same layout
 //   multiple_texture            sampler3D  multiple scattering last scattered by molecules (phase included)
 //   multiple_mie_texture        sampler3D  multiple scattering last scattered by particles, divided by forward_factor
+//   rayleigh_scattering         vec4[MAX_GROUPS]  beta_R^s at the ground [1/m] (near_ground_single_scattering)
+//   mie_scattering              vec4[MAX_GROUPS]  beta_M^s at the ground [1/m]
+//   near_ground_altitude        float  altitude [m] of the single-scattering tables' row NEAR_GROUND_ROWS (2): ground
+//                                      rays from cameras below it are integrated (planetviz/tables/near_ground.py)
+//   near_ground_density         float[2 * NEAR_GROUND_TABLE]  the Rayleigh, then the Mie density profile at
+//                                      NEAR_GROUND_TABLE altitudes from 0 to near_ground_altitude, read linearly
 
 uniform float mu_s_min;
 uniform vec2 transmittance_size;
@@ -31,6 +37,11 @@ uniform sampler3D single_rayleigh_texture;
 uniform sampler3D single_mie_texture;
 uniform sampler3D multiple_texture;
 uniform sampler3D multiple_mie_texture;
+uniform vec4 rayleigh_scattering[MAX_GROUPS];
+uniform vec4 mie_scattering[MAX_GROUPS];
+uniform float near_ground_altitude;
+#define NEAR_GROUND_TABLE 32
+uniform float near_ground_density[2 * NEAR_GROUND_TABLE];
 
 float texcoord_from_unit_range(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
 
@@ -59,16 +70,19 @@ vec4 get_transmittance_to_top_atmosphere_boundary(float a, float mu, int g) {
     return exp(-get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
 }
 
+// Altitude of the point at distance d along (a, mu), from r_d^2 - R_b^2 = d (d + 2 r mu) + a (a + 2 R_b): no
+// cancellation against R_b^2.
+float altitude_along_ray(float a, float mu, float d) {
+    float c_d = max(d * (d + 2.0 * radius_of(a) * mu) + a * (a + 2.0 * bottom_radius), 0.0);
+    return min(c_d / (sqrt(c_d + bottom_radius * bottom_radius) + bottom_radius), top_radius - bottom_radius);
+}
+
 // tau between (a, mu) and the point at distance d on the ray's descending part (d <= -r mu): the reversed ray,
 // tau(a_d, -mu_d) - tau(a, -mu), as in the NumPy twin, whose other branches (rays up, rays past their lowest
-// point) no shader needs: every segment read here ends on the ground. a_d from r_d^2 - R_b^2 =
-// d (d + 2 r mu) + a (a + 2 R_b): no cancellation against R_b^2.
+// point) no shader needs: every segment read here ends on the ground or before it.
 vec4 get_optical_depth(float a, float mu, float d, int g) {
-    float r = radius_of(a);
-    float c_d = max(d * (d + 2.0 * r * mu) + a * (a + 2.0 * bottom_radius), 0.0);
-    float r_d = sqrt(c_d + bottom_radius * bottom_radius);
-    float a_d = min(c_d / (r_d + bottom_radius), top_radius - bottom_radius);
-    float mu_d = clamp_cosine((r * mu + d) / radius_of(a_d));
+    float a_d = altitude_along_ray(a, mu, d);
+    float mu_d = clamp_cosine((radius_of(a) * mu + d) / radius_of(a_d));
     return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g)
                - get_optical_depth_to_top_atmosphere_boundary(a, -mu, g), 0.0);
 }
@@ -193,14 +207,56 @@ vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, f
     return n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
 }
 
-// In-scattered radiance of group g: single scattering with its phases plus multiple scattering, each with its
-// tables' ground_row_factor (the evaluator's _phased).
+// ------------------------------------------------------------------------------- near the ground (NumPy twin:
+// planetviz/tables/near_ground.py, whose docstring says why): single scattering of ground rays from cameras below
+// near_ground_altitude by an 8-node Gauss-Legendre rule on [0, d] with the tables' transmittances.
+const float NEAR_GROUND_NODES[8] = float[8](0.019855072, 0.101666761, 0.237233795, 0.408282679, 0.591717321,
+                                            0.762766205, 0.898333239, 0.980144928);
+const float NEAR_GROUND_WEIGHTS[8] = float[8](0.050614268, 0.111190517, 0.156853323, 0.181341892, 0.181341892,
+                                              0.156853323, 0.111190517, 0.050614268);
+
+bool near_ground_rays(float a, bool intersects_ground) { return intersects_ground && a < near_ground_altitude; }
+
+// Density of the Rayleigh (k = 0) or Mie (k = 1) component at altitude a in [0, near_ground_altitude].
+float near_ground_density_at(int k, float a) {
+    float x = clamp(a / near_ground_altitude, 0.0, 1.0) * float(NEAR_GROUND_TABLE - 1);
+    int i = min(int(x), NEAR_GROUND_TABLE - 2);
+    return mix(near_ground_density[k * NEAR_GROUND_TABLE + i], near_ground_density[k * NEAR_GROUND_TABLE + i + 1],
+               x - float(i));
+}
+
+// (S_R,1, S_M,1) of group g without phase, per unit solar irradiance, for a ground ray at (a, mu, mu_s, nu).
+void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int g, out vec4 s_r, out vec4 s_m) {
+    float d = distance_to_bottom_atmosphere_boundary(a, mu);
+    float r = radius_of(a);
+    s_r = vec4(0.0);
+    s_m = vec4(0.0);
+    for (int i = 0; i < 8; ++i) {
+        float t = d * NEAR_GROUND_NODES[i];
+        float a_t = altitude_along_ray(a, mu, t);
+        float mu_s_t = clamp_cosine((r * mu_s + t * nu) / radius_of(a_t));
+        vec4 path = (d * NEAR_GROUND_WEIGHTS[i]) * get_transmittance(a, mu, t, g)
+            * get_transmittance_to_sun(a_t, mu_s_t, g);
+        s_r += path * near_ground_density_at(0, a_t);
+        s_m += path * near_ground_density_at(1, a_t);
+    }
+    s_r *= rayleigh_scattering[g];
+    s_m *= mie_scattering[g];
+}
+
+// In-scattered radiance of group g (the evaluator's _phased): single scattering with its phases, from the tables
+// or, for ground rays from near the ground, near_ground_single_scattering; plus multiple scattering with its
+// tables' ground_row_factor.
 vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
-    vec4 s_r = get_scattering(single_rayleigh_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
-    vec4 s_m = get_scattering(single_mie_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
+    vec4 s_r, s_m;
+    if (near_ground_rays(a, intersects_ground)) {
+        near_ground_single_scattering(a, mu, mu_s, nu, g, s_r, s_m);
+    } else {
+        s_r = get_scattering(single_rayleigh_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
+        s_m = get_scattering(single_mie_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
+    }
     vec4 s_ms = get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);
     vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);
-    return (s_r * rayleigh_like_phase(nu) + s_m * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g]))
-               * ground_row_factor(a, mu, intersects_ground, single_size.w, g)
+    return s_r * rayleigh_like_phase(nu) + s_m * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
         + (s_ms + forward_factor(nu, g) * s_ms_mie) * ground_row_factor(a, mu, intersects_ground, multiple_size.w, g);
 }

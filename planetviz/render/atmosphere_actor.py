@@ -21,15 +21,35 @@ from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
 from ..color import albedo_matrix
+from ..tables.near_ground import near_ground_altitude
 from ..tables.parameterization import MU_S_MIN
 from .shaders import shader_code
 from .surface import surface_cube
 from .textures import MAX_GROUPS, group_count, pack_2d, pack_3d, pad_groups, upload
 from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camera_uniforms, draw_uniforms,
-                       frame_key)
+                       frame_key, groups_array)
 
 #: The GLSL both table-based actors share, in order (each file declares what the later ones use).
 TABLE_SHADERS = ("common.glsl", "atmosphere_functions.glsl", "atmosphere_ray.glsl")
+
+
+#: Altitudes at which the shaders get the density profiles near the ground (NEAR_GROUND_TABLE in GLSL).
+NEAR_GROUND_TABLE = 32
+
+
+def near_ground_uniforms(atm, tables):
+    """What shaders/atmosphere_functions.glsl's near_ground_single_scattering takes: the scattering coefficients,
+    the altitude below which it applies and the two density profiles up to there (linear between 32 altitudes:
+    at most 6e-6 relative for the Earth's 1.2 km Mie scale height up to standard quality's 247 m, 1e-4 up to
+    draft's 1.06 km)."""
+    top = near_ground_altitude(tables)
+    h = np.linspace(0.0, top, NEAR_GROUND_TABLE)
+    per_group = lambda values: groups_array(pad_groups(values))
+    return {"rayleigh_scattering": ("4fv", per_group(atm.rayleigh.scattering_m)),
+            "mie_scattering": ("4fv", per_group(atm.mie.scattering_m)),
+            "near_ground_altitude": ("f", top),
+            "near_ground_density": ("1fv", np.concatenate([atm.rayleigh.profile.density(h),
+                                                            atm.mie.profile.density(h)]))}
 
 
 class TableTextures:
@@ -60,6 +80,7 @@ class TableTextures:
             "albedo_weights": ("4fv", alb_w.reshape(-1, 4)),
             "use_surface_texture": ("i", int(self.surface is not None)),
             "surface_face_size": ("f", self._cube().shape[1] - 2),
+            **near_ground_uniforms(atm, t),
         }
 
     def _cube(self):

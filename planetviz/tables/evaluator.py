@@ -21,21 +21,24 @@ from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
 from .lookup import (get_irradiance, get_scattering, get_transmittance, ground_row_factor,
                      get_transmittance_to_sun, get_transmittance_to_top_atmosphere_boundary)
+from .near_ground import near_ground_rays, near_ground_single_scattering
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
 
 def _phased(tables, atm, r, mu, mu_s, nu, ground):
-    """In-scattered radiance (..., W): single scattering with its phases, plus multiple scattering."""
+    """In-scattered radiance (..., W): single scattering with its phases, plus multiple scattering. Ground rays
+    from cameras near the ground take their single scattering from near_ground.py, not the tables."""
     if isinstance(tables, CompactTables):
         s_r, s_m, s_ms = (get_compact_scattering(tables, table, r, mu, mu_s)
                           for table in (tables.rayleigh, tables.mie, tables.multiple))
     else:
         s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground)
                                     for table in (tables.rayleigh, tables.mie, tables.multiple, tables.multiple_mie))
-        single_factor, multiple_factor = (ground_row_factor(tables, r, mu, ground, table.shape[0])
-                                          for table in (tables.rayleigh, tables.multiple))
-        s_r, s_m = s_r * single_factor, s_m * single_factor
-        s_ms = (s_ms + forward_factor(atm, nu) * s_ms_mie) * multiple_factor
+        near = near_ground_rays(tables, r, ground)
+        if np.any(near):
+            s_r[near], s_m[near] = near_ground_single_scattering(tables, atm, r[near], mu[near], mu_s[near], nu[near])
+        s_ms = (s_ms + forward_factor(atm, nu) * s_ms_mie) * ground_row_factor(tables, r, mu, ground,
+                                                                                tables.multiple.shape[0])
     return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu) + s_ms
 
 

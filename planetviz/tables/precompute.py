@@ -162,35 +162,37 @@ def scattering_grid(tables: Tables, size=None):
     return out
 
 
+def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
+    """(S_R,1, S_M,1) (..., W) without phase at (r, mu, mu_s, nu) from quadrature nodes t and weights w (..., K)
+    along the ray: sum_k w_k beta_i^scat rho_i(h_k) T(x, x_k) T_sun(x_k) (stage 2 of the module docstring),
+    mu_s,k = (r mu_s + t_k nu) / r_k. r, mu, mu_s, nu broadcast against each other and against t's leading axes
+    (the view transmittance and the densities are computed once for what r, mu and t share)."""
+    r, mu, mu_s, nu = (np.asarray(a, float)[..., None] for a in (r, mu, mu_s, nu))
+    r_t = np.sqrt(np.maximum(t * t + 2.0 * r * mu * t + r * r, 0.0))
+    h = r_t - tables.bottom
+    view = get_transmittance(tables, r, mu, t)
+    mu_s_t = np.clip((r * mu_s + t * nu) / r_t, -1.0, 1.0)
+    sun = get_transmittance_to_sun(tables, np.broadcast_to(r_t, mu_s_t.shape), mu_s_t)
+    path = w[..., None] * view * sun
+    s_r = np.sum(atm.rayleigh.profile.density(h)[..., None] * path, -2) * np.asarray(atm.rayleigh.scattering_m)
+    s_m = np.sum(atm.mie.profile.density(h)[..., None] * path, -2) * np.asarray(atm.mie.scattering_m)
+    return s_r, s_m
+
+
 def single_scattering(tables: Tables, atm, progress=None):
     """(S_R,1, S_M,1), each (n_r, n_mu, n_nu, n_mu_s, W): in-scattered radiance without phase."""
     r, mu, mu_s, nu, ground = scattering_grid(tables)
-    n_r, n_mu, n_nu, n_mu_s = r.shape
-    W = atm.n_wavelengths
-    out_r = np.empty((n_r, n_mu, n_nu, n_mu_s, W))
+    n_r = r.shape[0]
+    out_r = np.empty(r.shape + (atm.n_wavelengths,))
     out_m = np.empty_like(out_r)
-    beta_r = np.asarray(atm.rayleigh.scattering_m)
-    beta_m = np.asarray(atm.mie.scattering_m)
     for i in range(n_r):
         if progress:
             progress("single scattering", i / n_r)
-        ri, mui, gi = r[i, :, 0, 0], mu[i, :, 0, 0], ground[i, :, 0, 0]        # per mu
+        ri, mui, gi = r[i, :, :1, :1], mu[i, :, :1, :1], ground[i, :, :1, :1]  # per mu
         d = np.where(gi, distance_to_bottom_atmosphere_boundary(ri, mui, tables.bottom),
                      distance_to_top_atmosphere_boundary(ri, mui, tables.top))
-        t, w = ray_nodes(ri, mui, d, tables.sizes.scattering_samples)         # (n_mu, K)
-        h = _altitude(ri[:, None], mui[:, None], t, tables.bottom)
-        view = get_transmittance(tables, ri[:, None], mui[:, None], t)   # (n_mu, K, W)
-        dens_r = atm.rayleigh.profile.density(h)[..., None] * beta_r
-        dens_m = atm.mie.profile.density(h)[..., None] * beta_m
-        r_t = np.sqrt(np.maximum(t * t + 2 * ri[:, None] * mui[:, None] * t + ri[:, None] ** 2, 0.0))
-        mus_i, nu_i = mu_s[i], nu[i]                                           # (n_mu, n_nu, n_mu_s)
-        mu_s_t = np.clip((ri[:, None, None, None] * mus_i[..., None] + t[:, None, None, :] * nu_i[..., None])
-                         / r_t[:, None, None, :], -1.0, 1.0)                   # (n_mu, n_nu, n_mu_s, K)
-        sun = get_transmittance_to_sun(tables, np.broadcast_to(r_t[:, None, None, :], mu_s_t.shape), mu_s_t)
-        wr = (w[..., None] * view * dens_r)[:, None, None]                     # (n_mu, 1, 1, K, W)
-        wm = (w[..., None] * view * dens_m)[:, None, None]
-        out_r[i] = np.einsum("anskw,anskw->answ", np.broadcast_to(wr, sun.shape), sun)
-        out_m[i] = np.einsum("anskw,anskw->answ", np.broadcast_to(wm, sun.shape), sun)
+        t, w = ray_nodes(ri, mui, d, tables.sizes.scattering_samples)         # (n_mu, 1, 1, K)
+        out_r[i], out_m[i] = single_scattering_integral(tables, atm, ri, mui, mu_s[i], nu[i], t, w)
     return out_r, out_m
 
 
