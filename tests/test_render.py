@@ -274,9 +274,10 @@ def test_no_dark_band_below_the_horizon_in_a_thick_atmosphere(thick):
     # In the 10-bar atmosphere the ground a few km away is hidden in haze brighter than it (the horizon's sky),
     # so from 2 m up the ground must brighten toward the horizon at every row over its last 0.3 deg (0.0625 deg
     # per row): the aerial perspective grows with the distance. Measured: each row 3-20% brighter than the one
-    # below it. Read without lookup.ground_row_factor (a camera below the tables' first row took its ground
-    # rays' in-scattering as growing with sqrt of their length) it darkened instead, 0.4-12% per row: the dark
-    # band below the horizon of other renderers (the gallery's picture of this planet had it).
+    # below it. Read from the tables without lookup.ground_row_factor (a camera below the tables' first row took
+    # its ground rays' in-scattering as growing with sqrt of their length; single scattering is integrated there
+    # since, tables/near_ground.py) it darkened instead, 0.4-12% per row: the dark band below the horizon of
+    # other renderers (the gallery's picture of this planet had it).
     thick.set_sun(elevation=15, azimuth=0)
     thick.view_from_ground(latitude=0, altitude=2.0, heading=180, pitch=-1.5, fov=3.0)
     lum = thick.render_hdr().linear_srgb[..., 1]

@@ -118,9 +118,11 @@ def test_scattering_lookup_decays_geometrically_toward_a_zero_texel():
 def test_short_ground_rays_scatter_in_proportion_to_their_length(preset):
     # A ray 0.2-20 m long toward the ground (20 deg off the nadir) is optically thin even in the 10-bar CO2
     # atmosphere (tau < 0.02 at 440 nm), so its in-scattering is J d, J the source term at the ground:
-    # S / d the same for every length. All orders from the draft tables, whose first rows above the ground
-    # are 240 m (single) and 1.2 km up (multiple). Measured spread of S / d: 0.08% (Earth), 0.9% (thick);
-    # without lookup.ground_row_factor the ground row made S grow as sqrt(d) and S / d spread 10x. Bound 3%.
+    # S / d the same for every length. All orders: single scattering integrated along the ray
+    # (tables/near_ground.py), the multiple-scattering table read with lookup.ground_row_factor (its first row
+    # above the ground is 1.2 km up, draft). Measured spread of S / d: 0.12% (Earth), 0.9% (thick); without
+    # the factor (and the single-scattering table read alike, before near_ground.py) the ground row made S grow
+    # as sqrt(d) and S / d spread 10x. Bound 3%.
     from planetviz.tables.evaluator import _phased
     atm = load_atmosphere(preset)
     tables = precompute(atm, QUALITY["draft"])

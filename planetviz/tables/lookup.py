@@ -79,10 +79,11 @@ def one_minus_exp(x):
 
 def ground_row_factor(t, r, mu, intersects_ground, n_r):
     """(..., W) factor on what :func:`get_scattering` reads from a 4D table of ``n_r`` rows at (r, mu) (every
-    reader applies it: the evaluator, the precompute's reads of each order, the compact tables, the shaders'
-    get_phased_scattering): for ground rays from below the table's first row above the ground, the correction of
-    the linear interpolation between the ground row and that row; 1 for every other ray ((..., 1) where no ray
-    needs it).
+    reader of the multiple-scattering tables applies it: the evaluator, the shaders' get_phased_scattering, the
+    precompute's reads of each order, the compact tables; the last two also to the single-scattering tables,
+    which the evaluator and the shaders replace there by near_ground.py's quadrature): for ground rays from
+    below the table's first row above the ground, the correction of the linear interpolation between the ground
+    row and that row; 1 for every other ray ((..., 1) where no ray needs it).
 
     The ground row's ground rays have zero length and hold 0, so interpolating in u_r reads f S_1, f the
     camera's fraction of the way to row 1 and S_1 the in-scattering of row 1's ray at the same u_mu: as if
@@ -92,7 +93,8 @@ def ground_row_factor(t, r, mu, intersects_ground, n_r):
     extinction along both rays): S = S_1 (1 - exp(-k tau_1)) / (1 - exp(-tau_1)), so the factor on f S_1 is
     (1 - exp(-k tau_1)) / (f (1 - exp(-tau_1))), k / f where tau_1 = 0 (which also makes straight-down rays,
     whose length goes as f^2, right). Without it a camera 2 m up read single scattering just below the horizon
-    25% off with standard tables (46% draft); with it 2.4% (5.9%) (HORIZON_SEAM, docs/stability.md).
+    25% off with standard tables (46% draft); with it 2.4% (5.9%), and 0.1% (0.4%) by near_ground.py's
+    quadrature (HORIZON_SEAM, docs/stability.md).
     """
     r, mu = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float))
     h = np.sqrt(t.top * t.top - t.bottom * t.bottom)
