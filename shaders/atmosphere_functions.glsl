@@ -231,12 +231,16 @@ void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int 
     float r = radius_of(a);
     s_r = vec4(0.0);
     s_m = vec4(0.0);
+    if (d <= 0.0) return;                                    // a ray from the ground (the ground point's reading)
+    // get_transmittance(a, mu, t, g) of each node, with the camera's reading taken once.
+    vec4 tau_camera = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
     for (int i = 0; i < 8; ++i) {
         float t = d * NEAR_GROUND_NODES[i];
         float a_t = altitude_along_ray(a, mu, t);
+        float mu_t = clamp_cosine((r * mu + t) / radius_of(a_t));
         float mu_s_t = clamp_cosine((r * mu_s + t * nu) / radius_of(a_t));
-        vec4 path = (d * NEAR_GROUND_WEIGHTS[i]) * get_transmittance(a, mu, t, g)
-            * get_transmittance_to_sun(a_t, mu_s_t, g);
+        vec4 view = exp(-max(get_optical_depth_to_top_atmosphere_boundary(a_t, -mu_t, g) - tau_camera, 0.0));
+        vec4 path = (d * NEAR_GROUND_WEIGHTS[i]) * view * get_transmittance_to_sun(a_t, mu_s_t, g);
         s_r += path * near_ground_density_at(0, a_t);
         s_m += path * near_ground_density_at(1, a_t);
     }
