@@ -62,7 +62,7 @@ def get_optical_depth(t, r, mu, d):
     tau_far = top(t, np.where(descending, r, r_d), np.where(descending, -mu, np.maximum(mu_d, 0.0)))
     tau = np.maximum(tau_near - tau_far, 0.0)
     if np.any(past):
-        to_lowest = top(t, r_l[past], np.zeros(np.count_nonzero(past))) - top(t, r[past], -mu[past])
+        to_lowest = tau_near[past] - top(t, r[past], -mu[past])      # tau_near holds tau(r_l, 0) there
         tau[past] += np.maximum(to_lowest, 0.0)
     return tau
 
