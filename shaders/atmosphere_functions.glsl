@@ -117,6 +117,25 @@ float x_mu_s_from_mu_s(float mu_s) {
     return (1.0 - a / big_a) / (1.0 + a);
 }
 
+// The sky half's refinement of the rays that dip below the horizontal: x_p + (1 - x_p) (1 - (1 - y)^k) past the
+// pivot x_p, y = (x - x_p) / (1 - x_p); parameterization.py's dipping_pivot_and_exponent says how x_p and k follow
+// the camera's altitude a, and why.
+const float PIVOT_SMOOTHING = 0.01;
+const float REFINEMENT_ALTITUDE = 0.05;
+float refine_dipping_rays(float x, float a) {
+    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
+    float thickness = top_radius - bottom_radius;
+    float d_min = thickness - a;
+    float d_max = rho_of(a) + h;
+    float c = PIVOT_SMOOTHING * h;
+    float s = max(d_min * (top_radius + radius_of(a)), 0.0);
+    float x_p = clamp((s / sqrt(s + c * c) - d_min) / (d_max - d_min), 0.0, 1.0);
+    if (x <= x_p) return x;
+    float k = 0.5 + 0.5 * exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * thickness));
+    float y = clamp((x - x_p) / max(1.0 - x_p, 1e-30), 0.0, 1.0);
+    return x_p + (1.0 - x_p) * (1.0 - pow(1.0 - y, k));
+}
+
 // (u_nu, u_mu_s, u_mu, u_r) of a table of size (n_nu, n_mu_s, n_mu, n_r); u_mu_s clamped as in NumPy.
 vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, bool intersects_ground, vec4 size) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
@@ -135,7 +154,8 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, 
         float d = -r_mu + safe_sqrt(disc + h * h);
         float d_min = (top_radius - bottom_radius) - a;
         float d_max = rho + h;
-        u_mu = 0.5 + 0.5 * texcoord_from_unit_range((d - d_min) / (d_max - d_min), size.z / 2.0);
+        u_mu = 0.5 + 0.5 * texcoord_from_unit_range(refine_dipping_rays((d - d_min) / (d_max - d_min), a),
+                                                    size.z / 2.0);
     }
     float u_mu_s = texcoord_from_unit_range(max(x_mu_s_from_mu_s(mu_s), 0.0), size.y);
     return vec4((nu + 1.0) / 2.0, u_mu_s, u_mu, u_r);
