@@ -117,11 +117,12 @@ float x_mu_s_from_mu_s(float mu_s) {
     return (1.0 - a / big_a) / (1.0 + a);
 }
 
-// The sky half's refinement of the rays that dip below the horizontal: x_p + (1 - x_p) (1 - (1 - y)^k) past the
-// pivot x_p, y = (x - x_p) / (1 - x_p); parameterization.py's dipping_pivot_and_exponent says how x_p and k follow
-// the camera's altitude a, and why.
-const float PIVOT_SMOOTHING = 0.01;
-const float REFINEMENT_ALTITUDE = 0.05;
+// The sky half's refinement of the rays that dip below the horizontal, past the pivot x_p:
+// x_p + (1 - x_p)(1 - G(t)), t = (1 - x) / (1 - x_p), G(t) = (1 - w) t + w (a sqrt(t) + (1 - a) t^2), a = SQRT_SHARE;
+// parameterization.py's dipping_pivot_and_weight says how x_p and w follow the camera's altitude a, and why.
+const float PIVOT_SMOOTHING = 0.03;
+const float REFINEMENT_ALTITUDE = 0.1;
+const float SQRT_SHARE = 5.0 / 6.0;
 float refine_dipping_rays(float x, float a) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
     float thickness = top_radius - bottom_radius;
@@ -131,9 +132,10 @@ float refine_dipping_rays(float x, float a) {
     float s = max(d_min * (top_radius + radius_of(a)), 0.0);
     float x_p = clamp((s / sqrt(s + c * c) - d_min) / (d_max - d_min), 0.0, 1.0);
     if (x <= x_p) return x;
-    float k = 0.5 + 0.5 * exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * thickness));
-    float y = clamp((x - x_p) / max(1.0 - x_p, 1e-30), 0.0, 1.0);
-    return x_p + (1.0 - x_p) * (1.0 - pow(1.0 - y, k));
+    float w = 1.0 - exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * thickness));
+    float t = clamp((1.0 - x) / max(1.0 - x_p, 1e-30), 0.0, 1.0);
+    float g = (1.0 - w) * t + w * (SQRT_SHARE * sqrt(t) + (1.0 - SQRT_SHARE) * t * t);
+    return x_p + (1.0 - x_p) * (1.0 - g);
 }
 
 // (u_nu, u_mu_s, u_mu, u_r) of a table of size (n_nu, n_mu_s, n_mu, n_r); u_mu_s clamped as in NumPy.

@@ -76,9 +76,9 @@ def test_sky_half_is_monotone_and_moves_little_with_the_camera_at_the_top():
     # rises over the whole sky half (no fold, no jump at the pivot), at every altitude (at the top itself the
     # rays up have zero length and share u_mu: there over the rays down). And a camera entering at
     # the top that moves 1 m along its ray must see that ray's u_mu move little: Bruneton's mapping moves it by
-    # 1.8e-5 texel, the refinement with the smoothed pivot by 6.7e-4 (measured); the horizontal ray's own x as
-    # the pivot (sqrt(R_t - r) at the top) moved it by 5.8e-3 texel and broke the continuity across the top
-    # (tests/test_stability.py). Bound 2e-3 texel.
+    # 1.8e-5 texel, the refinement with the smoothed pivot by 1.7e-4 (measured); the horizontal ray's own x as
+    # the pivot (sqrt(R_t - r) at the top) moves it by 4.3e-3 texel and broke the continuity across the top
+    # (tests/test_stability.py). Bound 1e-3 texel.
     n = 64
     for h in (0.0, 1.0, 100.0, 1e3, 1e4, 3e4, 5e4, T - B - 1.0, T - B):
         r = B + h
@@ -92,7 +92,7 @@ def test_sky_half_is_monotone_and_moves_little_with_the_camera_at_the_top():
     ground = ray_intersects_ground(np.full_like(mu, T), mu, B)
     u_top, u_in = (scattering_uvwz_from_r_mu_mu_s_nu(r, m, 0.5, 0.0, ground, B, T, (8, 32, n, 32))[2]
                    for r, m in ((np.full_like(mu, T), mu), (r_in, (T * mu + 1.0) / r_in)))
-    assert np.max(np.abs(u_top - u_in)) * n < 2e-3
+    assert np.max(np.abs(u_top - u_in)) * n < 1e-3
 
 
 def test_texture_reads_are_linear_interpolation_between_texel_centres():
