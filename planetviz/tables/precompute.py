@@ -157,9 +157,8 @@ def scattering_grid(tables: Tables, size=None):
     u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
     u_mu_s = _texel_centres(n_mu_s)[None, None, None, :]
     shape = (n_r, n_mu, n_nu, n_mu_s)
-    out = r_mu_mu_s_nu_from_scattering_uvwz(*(np.broadcast_to(a, shape) for a in (u_nu, u_mu_s, u_mu, u_r)),
-                                            tables.bottom, tables.top, size)
-    return out
+    out = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
+    return tuple(np.ascontiguousarray(np.broadcast_to(a, shape)) for a in out)     # r and mu per (r, mu) only
 
 
 def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
