@@ -120,19 +120,16 @@ float x_mu_s_from_mu_s(float mu_s) {
 // The sky half's refinement of the rays that dip below the horizontal, past the pivot x_p:
 // x_p + (1 - x_p)(1 - G(t)), t = (1 - x) / (1 - x_p), G(t) = (1 - w) t + w (a sqrt(t) + (1 - a) t^2), a = SQRT_SHARE;
 // parameterization.py's dipping_pivot_and_weight says how x_p and w follow the camera's altitude a, and why.
+// h, d_min and d_max are the caller's (scattering_uvwz_from_r_mu_mu_s_nu's sky half), not recomputed per call.
 const float PIVOT_SMOOTHING = 0.03;
 const float REFINEMENT_ALTITUDE = 0.1;
 const float SQRT_SHARE = 5.0 / 6.0;
-float refine_dipping_rays(float x, float a) {
-    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
-    float thickness = top_radius - bottom_radius;
-    float d_min = thickness - a;
-    float d_max = rho_of(a) + h;
+float refine_dipping_rays(float x, float a, float h, float d_min, float d_max) {
     float c = PIVOT_SMOOTHING * h;
     float s = max(d_min * (top_radius + radius_of(a)), 0.0);
     float x_p = clamp((s / sqrt(s + c * c) - d_min) / (d_max - d_min), 0.0, 1.0);
     if (x <= x_p) return x;
-    float w = 1.0 - exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * thickness));
+    float w = 1.0 - exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * (top_radius - bottom_radius)));
     float t = clamp((1.0 - x) / max(1.0 - x_p, 1e-30), 0.0, 1.0);
     float g = (1.0 - w) * t + w * (SQRT_SHARE * sqrt(t) + (1.0 - SQRT_SHARE) * t * t);
     return x_p + (1.0 - x_p) * (1.0 - g);
@@ -156,8 +153,8 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, 
         float d = -r_mu + safe_sqrt(disc + h * h);
         float d_min = (top_radius - bottom_radius) - a;
         float d_max = rho + h;
-        u_mu = 0.5 + 0.5 * texcoord_from_unit_range(refine_dipping_rays((d - d_min) / (d_max - d_min), a),
-                                                    size.z / 2.0);
+        float x = refine_dipping_rays((d - d_min) / (d_max - d_min), a, h, d_min, d_max);
+        u_mu = 0.5 + 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
     }
     float u_mu_s = texcoord_from_unit_range(max(x_mu_s_from_mu_s(mu_s), 0.0), size.y);
     return vec4((nu + 1.0) / 2.0, u_mu_s, u_mu, u_r);

@@ -215,14 +215,16 @@ def test_orders_stop_by_themselves_more_for_a_thicker_atmosphere():
 THICK_LOSES_ENERGY = pytest.mark.xfail(strict=True, reason=(
     "known defect (issue 3 note, docs/tables.md): in the 10-bar CO2 atmosphere (tau = 4 at 440 nm, 38 orders) "
     "the standard tables lose energy order after order: on these 12 rays 440 nm reads 25% under the reference "
-    "and 550 nm 11% (8.5% RMS over the benchmark's query set)"))
+    "and 550 nm 11% (8.2% RMS over the benchmark's query set, docs/benchmarks.md)"))
 
 
 MARS_PEAK = pytest.mark.xfail(strict=True, reason=(
     "known defect (docs/tables.md): Mars at standard quality is 7.8% RMS off the reference on these 12 rays, "
     "where a horizontal view from 10 km reads +31% at 680 nm (+35% with another seed) under the dust's "
     "g = 0.86-0.91 forward lobe; the larger error under such a lobe (3.3x at order 2) was fixed by factoring "
-    "the twice-scattered lobe out of the multiple-scattering tables; the rest is not isolated"))
+    "the twice-scattered lobe out of the multiple-scattering tables; narrowed since: single scattering is right "
+    "to 0.1% on these rays, the multiple-scattering tables' angular shape is off (+33% toward the sun, -11..-16% "
+    "away at 680 nm; 32 nu texels in place of 4: +17%, the rest not moved by any table setting; docs/tables.md)"))
 
 
 @pytest.mark.parametrize("preset", ["earth", pytest.param("mars", marks=[MARS_PEAK, pytest.mark.slow]),
