@@ -135,6 +135,13 @@ float refine_dipping_rays(float x, float a, float h, float d_min, float d_max) {
     return x_p + (1.0 - x_p) * (1.0 - g);
 }
 
+// The view-sun coordinate: linear in nu over the range that (mu, mu_s) allow (x_nu_from_nu in NumPy).
+const float NU_RANGE_FLOOR = 1e-2;
+float x_nu_from_nu(float mu, float mu_s, float nu) {
+    float root = max(safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)), NU_RANGE_FLOOR);
+    return clamp(0.5 + 0.5 * (nu - mu * mu_s) / root, 0.0, 1.0);
+}
+
 // (u_nu, u_mu_s, u_mu, u_r) of a table of size (n_nu, n_mu_s, n_mu, n_r); u_mu_s clamped as in NumPy.
 vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, bool intersects_ground, vec4 size) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
@@ -157,7 +164,7 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, 
         u_mu = 0.5 + 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
     }
     float u_mu_s = texcoord_from_unit_range(max(x_mu_s_from_mu_s(mu_s), 0.0), size.y);
-    return vec4((nu + 1.0) / 2.0, u_mu_s, u_mu, u_r);
+    return vec4(x_nu_from_nu(mu, mu_s, nu), u_mu_s, u_mu, u_r);
 }
 
 // a^(1 - f) b^f, a zero neighbour raised to ZERO_FLOOR times the other (0 where both are 0); f < 0 continues a

@@ -12,7 +12,8 @@ from the ground, rho = sqrt(r^2 - R_b^2) the same from radius r.
   the ground, mapped so both halves meet at the horizon), [1/2, 1] for the others (distance to the top);
   the sky half refined for the rays that dip below the horizontal (``refine_dipping_rays``);
   u_mu_s from the distance to the top along mu_s seen from the ground, concentrated above mu_s_min;
-  u_nu = (nu + 1) / 2. mu_s_min = cos(108 deg) keeps twilight down to 18 deg below the horizon.
+  u_nu linear in nu over the range that (mu, mu_s) allow (``x_nu_from_nu``); mu_s_min = cos(108 deg) keeps
+  twilight down to 18 deg below the horizon.
 
 Texture coordinates put texel centres at (i + 1/2) / n (``texcoord_from_unit_range``), as OpenGL does.
 """
@@ -116,8 +117,36 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     u_mu_s_half = 0.5 + 0.5 * texcoord_from_unit_range(x_s, n_mu // 2)
     u_mu = np.where(intersects_ground, u_mu_g, u_mu_s_half)
     u_mu_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
-    u_nu = (nu + 1.0) / 2.0
-    return u_nu, u_mu_s, u_mu, u_r
+    return x_nu_from_nu(mu, mu_s, nu), u_mu_s, u_mu, u_r
+
+
+#: Below this half-width sqrt((1 - mu^2)(1 - mu_s^2)) of nu's range (the view or the sun within 0.57 deg of
+#: the zenith or the nadir) the range counts as this wide, so that x_nu goes to 1/2 there, continuously. The
+#: sun-view azimuth is undefined at the poles and float32 cannot resolve it near them: for the sun at the
+#: nadir a float32 mu_s of -1 + 6e-8 leaves a half-width of 3.5e-4 and an arbitrary azimuth, read past the
+#: tables' last mu_s texel at another nu than the float64 evaluator's (0.55% apart with a floor of 1e-6,
+#: tests/test_stability_shader.py). Within the floor the query's own range of nu is < 0.02 wide; for the view
+#: or the sun near the zenith the neighbouring texels, which have a wider range, weigh < 1e-4 (the mu and mu_s
+#: coordinates are quadratic in the angle there); for the sun near the nadir, past the tables' last mu_s
+#: texel, the extrapolated night sky is read at the azimuth 90 deg (x_nu = 1/2).
+NU_RANGE_FLOOR = 1e-2
+
+
+def x_nu_from_nu(mu, mu_s, nu):
+    """The view-sun coordinate in [0, 1]: linear in nu over the range that (mu, mu_s) allow,
+    nu = mu mu_s + (2 x - 1) sqrt((1 - mu^2)(1 - mu_s^2)), i.e. (1 + cos(phi)) / 2 with phi the sun-view
+    azimuth (0: the sun's vertical plane on the sun's side).
+
+    Bruneton's (nu + 1) / 2 spans [-1, 1] whatever (mu, mu_s) allow; the texels outside the allowed range
+    hold the clamped geometry of another nu. For a horizontal view with the sun 60 deg up only nu in
+    [-0.5, 0.5] exists: two of the multiple-scattering tables' four nu texels, and the top mu_s texel (the
+    sun at the zenith, nu = mu for every nu) held one geometry for all of them. Reading the Mars dust's
+    forward-scattered light between such texels put the sky 10 km up +33% off the reference on that view
+    (MARS_PEAK, docs/tables.md); over the allowed range every texel is a real geometry, at least as densely
+    spaced in nu as Bruneton's.
+    """
+    root = np.maximum(safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)), NU_RANGE_FLOOR)
+    return np.clip(0.5 + 0.5 * (nu - mu * mu_s) / root, 0.0, 1.0)
 
 
 #: The sky half's refinement of the rays that dip below the horizontal (``refine_dipping_rays``): the
@@ -209,10 +238,7 @@ def mu_s_from_x_mu_s(x, bottom, top):
 
 
 def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size):
-    """Inverse of :func:`scattering_uvwz_from_r_mu_mu_s_nu`; also returns ``intersects_ground``.
-
-    nu is clamped to the range that (mu, mu_s) allow: mu mu_s +- sqrt((1 - mu^2)(1 - mu_s^2)).
-    """
+    """Inverse of :func:`scattering_uvwz_from_r_mu_mu_s_nu`; also returns ``intersects_ground``."""
     n_nu, n_mu_s, n_mu, n_r = size
     h = np.sqrt(top * top - bottom * bottom)
     rho = h * unit_range_from_texcoord(u_r, n_r)
@@ -229,7 +255,5 @@ def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size
     mu_sky = np.where(d_s == 0.0, 1.0, (h * h - rho * rho - d_s * d_s) / np.where(d_s == 0.0, 1.0, 2.0 * r * d_s))
     mu = clamp_cosine(np.where(ground, mu_g, mu_sky))
     mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(u_mu_s, n_mu_s), bottom, top)
-    nu = clamp_cosine(u_nu * 2.0 - 1.0)
-    root = safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s))
-    nu = np.clip(nu, mu * mu_s - root, mu * mu_s + root)
+    nu = clamp_cosine(mu * mu_s + (2.0 * u_nu - 1.0) * safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)))
     return r, mu, mu_s, nu, ground
