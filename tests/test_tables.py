@@ -57,6 +57,27 @@ def test_mappings_invert_exactly():
     assert np.allclose(rr, r, rtol=1e-12) and np.allclose(mm, mu, atol=1e-9)
 
 
+def test_nu_slices_are_distinct_geometries_spanning_what_mu_and_mu_s_allow():
+    # At every (r, mu, mu_s) texel of the multiple-scattering grid the n_nu slices must be geometries that
+    # exist, evenly spread over the whole range mu mu_s -+ sqrt((1 - mu^2)(1 - mu_s^2)) (the sun-view azimuth
+    # from 0 to 180 deg), and the lookup must find each slice at its own coordinate k / (n_nu - 1). Bruneton's
+    # (nu + 1) / 2 fails this: for a horizontal view with the sun 60 deg up (nu within [-0.5, 0.5]) two of four
+    # slices were clamped onto the range's ends, at the sun-at-zenith texel all four held the same geometry,
+    # and reading between them put Mars's sky 10 km up +33% off the reference (MARS_PEAK, docs/tables.md).
+    size = (4, 32, 64, 8)
+    grid_of = type("T", (), {"bottom": B, "top": T})()
+    from importlib import import_module
+    r, mu, mu_s, nu, g = import_module("planetviz.tables.precompute").scattering_grid(grid_of, size)
+    root = np.sqrt(np.maximum((1 - mu ** 2) * (1 - mu_s ** 2), 0.0))
+    assert np.all(np.abs(nu - mu * mu_s) <= root + 1e-12)
+    wide = root > 1e-2                               # NU_RANGE_FLOOR: nearer the poles every slice is ~ one geometry
+    k = np.broadcast_to(np.arange(4)[None, None, :, None], nu.shape)
+    assert np.allclose(((nu - mu * mu_s) / np.where(wide, root, 1.0))[wide], (2 * k / 3 - 1)[wide], atol=1e-9)
+    u_nu = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, size)[0]
+    assert np.allclose(u_nu[wide], (k / 3)[wide], atol=1e-9)
+    assert wide.mean() > 0.8                        # 88%: the zenith sun texel and the poles of mu are the rest
+
+
 def test_horizon_maps_to_the_outermost_texel_centres_on_both_sides():
     # Sky rays fill u_mu in [1/2, 1], ground rays [0, 1/2); the horizon is the far end of both halves, at
     # the outermost texel centres, so linear filtering never blends a sky texel with a ground texel (the
