@@ -238,7 +238,11 @@ def mu_s_from_x_mu_s(x, bottom, top):
 
 
 def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size):
-    """Inverse of :func:`scattering_uvwz_from_r_mu_mu_s_nu`; also returns ``intersects_ground``."""
+    """Inverse of :func:`scattering_uvwz_from_r_mu_mu_s_nu`; also returns ``intersects_ground``.
+
+    Exact where nu's range is at least ``NU_RANGE_FLOOR`` wide each side; nearer the poles the slices'
+    geometries lie within that range (< 0.02 of nu apart, the same light) and are read back near x_nu = 1/2.
+    """
     n_nu, n_mu_s, n_mu, n_r = size
     h = np.sqrt(top * top - bottom * bottom)
     rho = h * unit_range_from_texcoord(u_r, n_r)
