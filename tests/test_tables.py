@@ -10,11 +10,12 @@ from planetviz import load_atmosphere
 from planetviz.reference import optical_depth, single_scattering, solve
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_scattering
-from planetviz.tables.parameterization import (MU_S_MIN, mu_s_from_x_mu_s, r_mu_from_transmittance_uv,
-                                               r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
+from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, mu_s_from_x_mu_s,
+                                               r_mu_from_transmittance_uv, r_mu_mu_s_nu_from_scattering_uvwz,
+                                               ray_intersects_ground,
                                                scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu,
                                                unit_range_from_texcoord)
-from planetviz.tables.precompute import QUALITY, precompute
+from planetviz.tables.precompute import QUALITY, precompute, scattering_grid
 from planetviz.tables.sampling import _axis, texture2d
 
 
@@ -65,12 +66,10 @@ def test_nu_slices_are_distinct_geometries_spanning_what_mu_and_mu_s_allow():
     # slices were clamped onto the range's ends, at the sun-at-zenith texel all four held the same geometry,
     # and reading between them put Mars's sky 10 km up +33% off the reference (MARS_PEAK, docs/tables.md).
     size = (4, 32, 64, 8)
-    grid_of = type("T", (), {"bottom": B, "top": T})()
-    from importlib import import_module
-    r, mu, mu_s, nu, g = import_module("planetviz.tables.precompute").scattering_grid(grid_of, size)
+    r, mu, mu_s, nu, g = scattering_grid(type("T", (), {"bottom": B, "top": T})(), size)
     root = np.sqrt(np.maximum((1 - mu ** 2) * (1 - mu_s ** 2), 0.0))
     assert np.all(np.abs(nu - mu * mu_s) <= root + 1e-12)
-    wide = root > 1e-2                               # NU_RANGE_FLOOR: nearer the poles every slice is ~ one geometry
+    wide = root > NU_RANGE_FLOOR                     # nearer the poles every slice is ~ one geometry
     k = np.broadcast_to(np.arange(4)[None, None, :, None], nu.shape)
     assert np.allclose(((nu - mu * mu_s) / np.where(wide, root, 1.0))[wide], (2 * k / 3 - 1)[wide], atol=1e-9)
     u_nu = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, size)[0]
