@@ -122,9 +122,27 @@ def ground_row_factor(t, r, mu, intersects_ground, n_r):
 
 
 def get_transmittance_to_sun(t, r, mu_s):
-    """T toward a point sun: 0 when the planet hides it."""
+    """T toward a point sun: 0 when the planet hides it.
+
+    Where r broadcasts against many more suns than the table is wide (the precompute's single scattering: one
+    radius per quadrature node, every (mu_s, nu) of the 4D grid), the table is interpolated along r once per
+    radius and then along mu per sun: the same bilinear lookup, in float32 as the table is."""
+    r, mu_s = np.asarray(r, float), np.asarray(mu_s, float)
+    shape = np.broadcast_shapes(r.shape, mu_s.shape)
     shadow = ray_intersects_ground(r, mu_s, t.bottom)
-    return np.where(shadow[..., None], 0.0, get_transmittance_to_top_atmosphere_boundary(t, r, mu_s))
+    n_r, n_mu = t.optical_depth.shape[:2]
+    if 4 * r.size >= np.prod(shape, dtype=np.int64):
+        return np.where(shadow[..., None], 0.0, get_transmittance_to_top_atmosphere_boundary(t, r, mu_s))
+    u, v = transmittance_uv_from_r_mu(r, mu_s, t.bottom, t.top, (n_mu, n_r))
+    v0, v1, fv = _texel_axis(transmittance_uv_from_r_mu(r, 1.0, t.bottom, t.top, (n_mu, n_r))[1], n_r)
+    fv = fv.astype(np.float32)[..., None, None]
+    rows = t.optical_depth[v0] * (1 - fv) + t.optical_depth[v1] * fv         # r.shape + (n_mu, W)
+    rows = np.ascontiguousarray(np.moveaxis(rows.reshape(-1, rows.shape[-1]), -1, 0))   # (W, r.size n_mu)
+    u0, u1, fu = _texel_axis(u, n_mu)
+    row = np.broadcast_to(np.arange(r.size).reshape(r.shape), shape) * n_mu
+    i0, i1, fu = row + u0, row + u1, fu.astype(np.float32)
+    tau = np.stack([np.take(w, i0) * (1 - fu) + np.take(w, i1) * fu for w in rows], -1)
+    return np.where(shadow[..., None], np.float32(0.0), np.exp(-tau))
 
 
 def get_irradiance(t, r, mu_s, table=None):

@@ -128,6 +128,11 @@ def _mie_kernels(atm, v, dirs, weights):
     n = 4096
     grid = np.linspace(-1.0, 1.0, n + 1)
     phase_table = atm.mie.phase_function(grid).astype(np.float32)
+    stencils = []                         # (lower index, weight of the upper one) into the table, per c
+    for c in (c1, c2):
+        x = (c + np.float32(1.0)) * np.float32(n / 2.0)
+        i = np.clip(x.astype(np.int32), 0, n - 1)
+        stencils.append((i, x - i))
     out, done = [], {}
     for w in range(atm.n_wavelengths):
         lobe = (atm.mie.g1[w], atm.mie.g2[w], atm.mie.alpha[w])
@@ -136,11 +141,9 @@ def _mie_kernels(atm, v, dirs, weights):
             continue
         tab = phase_table[:, w]
         k = np.zeros(c1.shape, np.float32)
-        for c in (c1, c2):
-            x = (c + 1.0) * (n / 2.0)
-            i = np.clip(x.astype(np.int32), 0, n - 1)
-            f = x - i
-            k += tab[i] * (1.0 - f) + tab[i + 1] * f
+        for i, f in stencils:
+            lower = np.take(tab, i)
+            k += lower + f * (np.take(tab, i + 1) - lower)
         k *= weights.astype(np.float32)
         k /= k.sum(-1, keepdims=True)
         done[lobe] = k

@@ -38,7 +38,7 @@ class TableSizes:
 
     transmittance: tuple = (256, 64)          # (n_mu, n_r)
     irradiance: tuple = (256, 16)             # (n_mu_s, n_r)
-    scattering: tuple = (8, 32, 128, 32)      # (n_nu, n_mu_s, n_mu, n_r)
+    scattering: tuple = (8, 48, 128, 32)      # (n_nu, n_mu_s, n_mu, n_r)
     transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
     scattering_samples: int = 16              # per side of the closest approach, single scattering
     multiple: tuple = (4, 32, 64, 16)         # (n_nu, n_mu_s, n_mu, n_r) of the multiple-scattering table
@@ -52,7 +52,7 @@ QUALITY = {
     "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         multiple_samples=4, directions=(8, 8), tolerance=1e-2),
-    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 32, 80, 32), scattering_samples=8, multiple=(4, 32, 64, 8),
+    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 96, 32), scattering_samples=8, multiple=(4, 32, 64, 8),
                            multiple_samples=4, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
 }
@@ -171,27 +171,43 @@ def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
     h = r_t - tables.bottom
     view = get_transmittance(tables, r, mu, t)
     mu_s_t = np.clip((r * mu_s + t * nu) / r_t, -1.0, 1.0)
-    sun = get_transmittance_to_sun(tables, np.broadcast_to(r_t, mu_s_t.shape), mu_s_t)
-    path = w[..., None] * view * sun
-    s_r = np.sum(atm.rayleigh.profile.density(h)[..., None] * path, -2) * np.asarray(atm.rayleigh.scattering_m)
-    s_m = np.sum(atm.mie.profile.density(h)[..., None] * path, -2) * np.asarray(atm.mie.scattering_m)
+    sun = get_transmittance_to_sun(tables, r_t, mu_s_t)
+    s_r, s_m = (np.einsum("...kw,...kw->...w", (w * species.profile.density(h))[..., None] * view, sun)
+                * np.asarray(species.scattering_m) for species in (atm.rayleigh, atm.mie))
     return s_r, s_m
 
 
+#: Quadrature nodes times (mu_s, nu) texels the single-scattering stage evaluates at once.
+SINGLE_SCATTERING_BLOCK = 2 ** 16
+#: How many times the nodes rays longer than the ground's horizontal ray get (``single_scattering``).
+LONG_RAY_NODE_FACTOR = 2
+
+
 def single_scattering(tables: Tables, atm, progress=None):
-    """(S_R,1, S_M,1), each (n_r, n_mu, n_nu, n_mu_s, W): in-scattered radiance without phase."""
+    """(S_R,1, S_M,1), each (n_r, n_mu, n_nu, n_mu_s, W): in-scattered radiance without phase.
+
+    Rays longer than the horizontal ray from the ground to the top (those that graze the planet from high up)
+    get LONG_RAY_NODE_FACTOR times the nodes."""
     r, mu, mu_s, nu, ground = scattering_grid(tables)
     n_r = r.shape[0]
     out_r = np.empty(r.shape + (atm.n_wavelengths,))
     out_m = np.empty_like(out_r)
+    d = np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, tables.bottom),
+                 distance_to_top_atmosphere_boundary(r, mu, tables.top))[:, :, :1, :1]     # (n_r, n_mu, 1, 1)
+    long_ray = d[:, :, 0, 0] > np.sqrt(tables.top ** 2 - tables.bottom ** 2)
     for i in range(n_r):
         if progress:
             progress("single scattering", i / n_r)
-        ri, mui, gi = r[i, :, :1, :1], mu[i, :, :1, :1], ground[i, :, :1, :1]  # per mu
-        d = np.where(gi, distance_to_bottom_atmosphere_boundary(ri, mui, tables.bottom),
-                     distance_to_top_atmosphere_boundary(ri, mui, tables.top))
-        t, w = ray_nodes(ri, mui, d, tables.sizes.scattering_samples)         # (n_mu, 1, 1, K)
-        out_r[i], out_m[i] = single_scattering_integral(tables, atm, ri, mui, mu_s[i], nu[i], t, w)
+        for factor in (1, LONG_RAY_NODE_FACTOR):
+            samples = factor * tables.sizes.scattering_samples
+            block = max(1, SINGLE_SCATTERING_BLOCK // (r[0, 0].size * 2 * samples))
+            rows = np.flatnonzero(long_ray[i] == (factor > 1))
+            for j in range(0, rows.size, block):
+                rays = (i, rows[j:j + block])
+                ri, mui = r[rays][:, :1, :1], mu[rays][:, :1, :1]           # per mu
+                t, w = ray_nodes(ri, mui, d[rays], samples)                  # (block, 1, 1, K)
+                out_r[rays], out_m[rays] = single_scattering_integral(tables, atm, ri, mui, mu_s[rays], nu[rays],
+                                                                      t, w)
     return out_r, out_m
 
 
