@@ -141,8 +141,8 @@ def get_transmittance_to_sun(t, r, mu_s):
     u0, u1, fu = _texel_axis(u, n_mu)
     row = np.broadcast_to(np.arange(r.size).reshape(r.shape), shape) * n_mu
     i0, i1, fu = row + u0, row + u1, fu.astype(np.float32)
-    tau = np.stack([np.take(w, i0) * (1 - fu) + np.take(w, i1) * fu for w in rows], -1)
-    return np.where(shadow[..., None], np.float32(0.0), np.exp(-tau))
+    tau = np.stack([np.take(w, i0) * (1 - fu) + np.take(w, i1) * fu for w in rows])
+    return np.moveaxis(np.where(shadow, np.float32(0.0), np.exp(-tau)), 0, -1)    # wavelength-major in memory
 
 
 def get_irradiance(t, r, mu_s, table=None):

@@ -123,8 +123,8 @@ def _view_vectors(mu, mu_s, nu):
 
 def _mie_kernels(atm, v, dirs, weights):
     """Per wavelength, the renormalised kernel w_k [P_M(v . w_k) + P_M(v . w_k')] (..., K), float32."""
-    c1 = np.einsum("...i,ki->...k", v, dirs).astype(np.float32)
-    c2 = np.einsum("...i,ki->...k", v * np.array([1.0, -1.0, 1.0]), dirs).astype(np.float32)
+    v32, dirs32 = v.astype(np.float32), dirs.T.astype(np.float32)
+    c1, c2 = v32 @ dirs32, (v32 * np.float32([1.0, -1.0, 1.0])) @ dirs32
     n = 4096
     grid = np.linspace(-1.0, 1.0, n + 1)
     phase_table = atm.mie.phase_function(grid).astype(np.float32)
@@ -181,18 +181,18 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     forward = forward_factor(atm, nu)                          # (n_r, n_mu, n_nu, n_mu_s, W)
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders.
-    d = np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, tables.bottom),
-                 distance_to_top_atmosphere_boundary(r, mu, tables.top))
+    # Everything but the sun's direction per ray (n_r, n_mu, 1, 1, K).
+    rr, mm, gg = (a[:, :, :1, :1, None] for a in (r, mu, ground))
+    d = np.where(gg, distance_to_bottom_atmosphere_boundary(rr, mm, tables.bottom),
+                 distance_to_top_atmosphere_boundary(rr, mm, tables.top))[..., 0]
     if np.max(atm.vertical_optical_depth()) > 1.0:       # thick: nodes within the first attenuation lengths too
-        t1, w1 = split_ray_nodes(atm, r[:, :, :1, :1], mu[:, :, :1, :1], d[:, :, :1, :1], samples)
-        t, wt = np.broadcast_to(t1, shape + t1.shape[-1:]), np.broadcast_to(w1, shape + w1.shape[-1:])
+        t, wt = split_ray_nodes(atm, rr[..., 0], mm[..., 0], d, samples)
     else:
-        t, wt = ray_nodes(r, mu, d, samples)
-    rr, mm, ss, nn, gg = (np.broadcast_to(a[..., None], t.shape) for a in (r, mu, mu_s, nu, ground))
+        t, wt = ray_nodes(rr[..., 0], mm[..., 0], d, samples)
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * rr * mm * t + rr * rr, 0.0)), tables.bottom, tables.top)
     mu_t = np.clip((rr * mm + t) / r_t, -1.0, 1.0)
-    mu_s_t = np.clip((rr * ss + t * nn) / r_t, -1.0, 1.0)
-    path_stencil = ScatteringStencil(tables, shape, r_t, mu_t, mu_s_t, nn, gg)
+    mu_s_t = np.clip((rr * mu_s[..., None] + t * nu[..., None]) / r_t, -1.0, 1.0)
+    path_stencil = ScatteringStencil(tables, shape, r_t, mu_t, mu_s_t, nu[..., None], gg)
     path_weight = wt[..., None] * get_transmittance(tables, rr, mm, t)
     h_t = r_t - tables.bottom
     # Node weights with each component's density folded in: (..., K, 2W) against J's 2W channels.

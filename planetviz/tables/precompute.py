@@ -22,6 +22,7 @@ n_nu * n_mu_s) the shader samples.
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -85,6 +86,13 @@ def _texel_centres(n):
     return (np.arange(n) + 0.5) / n
 
 
+@functools.lru_cache(maxsize=None)
+def _gauss_legendre_unit(n):
+    """Gauss-Legendre nodes and weights of order n on [0, 1]."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
 def ray_nodes(r, mu, d, n):
     """Quadrature nodes t (..., 2n) and weights on [0, d] along (r, mu), clustered at the closest approach.
 
@@ -92,10 +100,8 @@ def ray_nodes(r, mu, d, n):
     the ray (rays going up, or reaching the ground before their closest approach) all 2n nodes go to the
     one side there is.
     """
-    x, w = np.polynomial.legendre.leggauss(n)
-    u, wu = 0.5 * (x + 1.0), 0.5 * w
-    x2, w2 = np.polynomial.legendre.leggauss(2 * n)
-    u2, wu2 = 0.5 * (x2 + 1.0), 0.5 * w2
+    u, wu = _gauss_legendre_unit(n)
+    u2, wu2 = _gauss_legendre_unit(2 * n)
     dd = np.asarray(d, dtype=float)[..., None]
     tc = np.clip(-r * mu, 0.0, d)[..., None]
     before = tc - tc * u * u                      # t from t_c down to 0
@@ -172,9 +178,28 @@ def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
     view = get_transmittance(tables, r, mu, t)
     mu_s_t = np.clip((r * mu_s + t * nu) / r_t, -1.0, 1.0)
     sun = get_transmittance_to_sun(tables, r_t, mu_s_t)
-    s_r, s_m = (np.einsum("...kw,...kw->...w", (w * species.profile.density(h))[..., None] * view, sun)
-                * np.asarray(species.scattering_m) for species in (atm.rayleigh, atm.mie))
-    return s_r, s_m
+    weights = np.stack([(w * species.profile.density(h))[..., None] * view * np.asarray(species.scattering_m)
+                        for species in (atm.rayleigh, atm.mie)], -1)
+    s = _sum_over_nodes(weights, sun)
+    return s[..., 0], s[..., 1]
+
+
+def _sum_over_nodes(a, sun):
+    """sum_k a[..., k, w, c] sun[..., k, w]: (..., W, C), for ``a`` (..., K, W, C) broadcasting against ``sun``
+    (..., K, W). Where ``a`` is constant along sun's trailing axes (the single-scattering stage: one set of node
+    weights per ray, many suns) this is one matrix product per wavelength, in float32 as the tables are."""
+    full, k, n_w = sun.shape[:-2], sun.shape[-2], sun.shape[-1]
+    lead = (1,) * (len(full) - (a.ndim - 3)) + a.shape[:-3]
+    j = len(full)
+    while j > 0 and lead[j - 1] == 1:
+        j -= 1
+    if j == len(full):
+        return np.einsum("...kw,...kwc->...wc", sun, a)
+    p, q = int(np.prod(full[:j], dtype=np.int64)), int(np.prod(full[j:], dtype=np.int64))
+    sun_w = np.moveaxis(sun, -1, 0).reshape(n_w, p, q, k)
+    a_w = np.moveaxis(np.broadcast_to(a.reshape(lead + a.shape[-3:]), full[:j] + (1,) * (len(full) - j)
+                                      + a.shape[-3:]).reshape(p, k, n_w, -1), 2, 0).astype(np.float32)
+    return np.moveaxis(np.matmul(sun_w, a_w), 0, -2).reshape(full + (n_w, a.shape[-1]))
 
 
 #: Quadrature nodes times (mu_s, nu) texels the single-scattering stage evaluates at once.
@@ -192,16 +217,17 @@ def single_scattering(tables: Tables, atm, progress=None):
     n_r = r.shape[0]
     out_r = np.empty(r.shape + (atm.n_wavelengths,))
     out_m = np.empty_like(out_r)
-    d = np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, tables.bottom),
-                 distance_to_top_atmosphere_boundary(r, mu, tables.top))[:, :, :1, :1]     # (n_r, n_mu, 1, 1)
+    r_2, mu_2, ground_2 = (a[:, :, :1, :1] for a in (r, mu, ground))                   # (n_r, n_mu, 1, 1)
+    d = np.where(ground_2, distance_to_bottom_atmosphere_boundary(r_2, mu_2, tables.bottom),
+                 distance_to_top_atmosphere_boundary(r_2, mu_2, tables.top))
     long_ray = d[:, :, 0, 0] > np.sqrt(tables.top ** 2 - tables.bottom ** 2)
     for i in range(n_r):
         if progress:
             progress("single scattering", i / n_r)
-        for factor in (1, LONG_RAY_NODE_FACTOR):
-            samples = factor * tables.sizes.scattering_samples
+        for long in (False, True):
+            samples = (LONG_RAY_NODE_FACTOR if long else 1) * tables.sizes.scattering_samples
             block = max(1, SINGLE_SCATTERING_BLOCK // (r[0, 0].size * 2 * samples))
-            rows = np.flatnonzero(long_ray[i] == (factor > 1))
+            rows = np.flatnonzero(long_ray[i] == long)
             for j in range(0, rows.size, block):
                 rays = (i, rows[j:j + block])
                 ri, mui = r[rays][:, :1, :1], mu[rays][:, :1, :1]           # per mu
