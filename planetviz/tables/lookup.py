@@ -133,8 +133,8 @@ def get_transmittance_to_sun(t, r, mu_s):
     n_r, n_mu = t.optical_depth.shape[:2]
     if 4 * r.size >= np.prod(shape, dtype=np.int64):
         return np.where(shadow[..., None], 0.0, get_transmittance_to_top_atmosphere_boundary(t, r, mu_s))
-    u, v = transmittance_uv_from_r_mu(r, mu_s, t.bottom, t.top, (n_mu, n_r))
-    v0, v1, fv = _texel_axis(transmittance_uv_from_r_mu(r, 1.0, t.bottom, t.top, (n_mu, n_r))[1], n_r)
+    u, v = transmittance_uv_from_r_mu(r, mu_s, t.bottom, t.top, (n_mu, n_r))     # v depends on r only: r.shape
+    v0, v1, fv = _texel_axis(v, n_r)
     fv = fv.astype(np.float32)[..., None, None]
     rows = t.optical_depth[v0] * (1 - fv) + t.optical_depth[v1] * fv         # r.shape + (n_mu, W)
     rows = np.ascontiguousarray(np.moveaxis(rows.reshape(-1, rows.shape[-1]), -1, 0))   # (W, r.size n_mu)
