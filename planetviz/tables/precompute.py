@@ -204,7 +204,8 @@ def _sum_over_nodes(a, sun):
 
 #: Quadrature nodes times (mu_s, nu) texels the single-scattering stage evaluates at once.
 SINGLE_SCATTERING_BLOCK = 2 ** 16
-#: How many times the nodes rays longer than the ground's horizontal ray get (``single_scattering``).
+#: How many times the nodes rays longer than the ground's horizontal ray get (``single_scattering`` and the
+#: multiple-scattering stage, ``multiple._ray_paths``).
 LONG_RAY_NODE_FACTOR = 2
 
 
