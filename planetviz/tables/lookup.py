@@ -155,18 +155,19 @@ def get_irradiance(t, r, mu_s, table=None):
 
 class ScatteringStencil:
     """A 4D lookup in tables of ``shape`` (n_r, n_mu, n_nu, n_mu_s) prepared once for many tables read at the
-    same points (the precompute reads every order's table at fixed points).
+    same points (the precompute reads every order's table at fixed points). ``mapping`` gives the texture
+    coordinates (u_nu, u_mu_s, u_mu, u_r) (S's by default; the scattering density has its own).
 
     For each point, the eight (r, mu, nu) neighbours at the lower mu_s texel and the eight at the upper one,
     each set weighted to sum to 1, are kept as two sparse matrices; :meth:`apply` blends the two along mu_s as
     :func:`get_scattering` does (geometrically), so the precompute reads its own tables as the renderer reads
     the final ones."""
 
-    def __init__(self, t, shape, r, mu, mu_s, nu, intersects_ground):
+    def __init__(self, t, shape, r, mu, mu_s, nu, intersects_ground, mapping=scattering_uvwz_from_r_mu_mu_s_nu):
         from scipy.sparse import csr_matrix
         n_r, n_mu, n_nu, n_mu_s = shape
-        u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
-                                                                    t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r))
+        u_nu, u_mu_s, u_mu, u_r = mapping(r, mu, mu_s, nu, intersects_ground, t.bottom, t.top,
+                                          (n_nu, n_mu_s, n_mu, n_r))
         coord = u_nu * (n_nu - 1)
         tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
         lerp = coord - tex_nu

@@ -9,7 +9,10 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
 2. scattering density J_n(r, mu, mu_s, nu) = sum_w [beta_R(r) P_R(w . v) + beta_M(r) P_M(w . v)] L_{n-1}(w) dw,
    tabulated per unit density of each component (J_R / rho_R, J_M / rho_M: the densities are exponential
    in altitude and would be overestimated by linear interpolation between r texels a scale height
-   apart; they are applied exactly at the integration nodes of step 4):
+   apart; they are applied exactly at the integration nodes of step 4), on its own grid: S's r, mu_s and
+   nu texels, mu uniform in the view zenith angle (``density_grid``; J is a property of the point and the
+   direction, with no seam at the horizon, where S's distance-based mu axis squeezes every view below the
+   horizon from low altitude next to the nadir texel):
    the Rayleigh-like part (a + b (w . v)^2) from the zeroth and second angular moments of L, which the
    quadrature integrates exactly; the Mie part from a kernel renormalised so that it integrates P_M to 1
    per texel (a coarse direction set cannot resolve a forward peak: renormalising keeps energy right);
@@ -30,9 +33,9 @@ import numpy as np
 
 from .lookup import (ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, ground_row_factor)
-from .parameterization import (distance_to_bottom_atmosphere_boundary,
-                               distance_to_top_atmosphere_boundary, ray_intersects_ground,
-                               r_mu_s_from_irradiance_uv)
+from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
+                               distance_to_top_atmosphere_boundary, r_mu_mu_s_nu_from_density_uvwz,
+                               ray_intersects_ground, r_mu_s_from_irradiance_uv)
 from ..optics.phase import PENNDORF_A, double_henyey_greenstein
 
 
@@ -180,13 +183,26 @@ def _ray_paths(tables, atm, r, mu, mu_s, nu, ground, samples):
         r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * rr * mm * t + rr * rr, 0.0)), tables.bottom, tables.top)
         mu_t = np.clip((rr * mm + t) / r_t, -1.0, 1.0)
         mu_s_t = np.clip((rr * mu_s[rays][..., None] + t * nu[rays][..., None]) / r_t, -1.0, 1.0)
-        stencil = ScatteringStencil(tables, shape, r_t, mu_t, mu_s_t, nu[rays][..., None], gg)
+        stencil = ScatteringStencil(tables, shape, r_t, mu_t, mu_s_t, nu[rays][..., None], gg,
+                                    mapping=density_uvwz_from_r_mu_mu_s_nu)
         path_weight = wt[..., None] * get_transmittance(tables, rr, mm, t)
         h_t = r_t - tables.bottom
         node_weight = np.concatenate([path_weight * atm.rayleigh.profile.density(h_t)[..., None],
                                       path_weight * atm.mie.profile.density(h_t)[..., None]], -1)
         paths.append((rays, stencil, node_weight.astype(np.float32)))
     return paths
+
+
+def density_grid(tables, size):
+    """(r, mu, mu_s, nu) at the texel centres of the scattering density's table, each (n_r, n_mu, n_nu, n_mu_s):
+    r and mu_s as in S's grid, mu uniform in the view zenith angle (``density_uvwz_from_r_mu_mu_s_nu``)."""
+    n_nu, n_mu_s, n_mu, n_r = size
+    u_r = ((np.arange(n_r) + 0.5) / n_r)[:, None, None, None]
+    u_mu = ((np.arange(n_mu) + 0.5) / n_mu)[None, :, None, None]
+    u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
+    u_mu_s = ((np.arange(n_mu_s) + 0.5) / n_mu_s)[None, None, None, :]
+    out = r_mu_mu_s_nu_from_density_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
+    return tuple(np.ascontiguousarray(np.broadcast_to(a, (n_r, n_mu, n_nu, n_mu_s))) for a in out)
 
 
 def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
@@ -207,16 +223,19 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     sky_above = _Incident(tables, atm, r_irr, mu_s_irr, dirs[up], shape, with_ground=False)
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
 
-    # Scattering density: Rayleigh-like phase (1 + A c^2) / (4 pi (1 + A / 3)) by moments, Mie by kernels.
+    # Scattering density on its own grid (the same r and mu_s texels): Rayleigh-like phase
+    # (1 + A c^2) / (4 pi (1 + A / 3)) by moments, Mie by kernels.
     a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
-    views = _view_vectors(mu, mu_s, nu)                       # (n_r, n_mu, n_nu, n_mu_s, 3)
+    _, mu_j, _, nu_j = density_grid(tables, size)
+    views = _view_vectors(mu_j, mu_s, nu_j)                   # (n_r, n_mu, n_nu, n_mu_s, 3)
     full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])])
     outer = np.einsum("ki,kj->kij", full_dirs, full_dirs)
     vv = np.einsum("...i,...j->...ij", views, views)
     beta_r = np.asarray(atm.rayleigh.scattering_m)
     beta_m = np.asarray(atm.mie.scattering_m)
     mie_kernels = _mie_kernels(atm, views, dirs, weights)
-    forward = forward_factor(atm, nu)                          # (n_r, n_mu, n_nu, n_mu_s, W)
+    forward_j = forward_factor(atm, nu_j)                      # (n_r, n_mu, n_nu, n_mu_s, W)
+    forward = forward_factor(atm, nu)                          # the same at S's texels
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders;
     # rays longer than the ground's horizontal ray get LONG_RAY_NODE_FACTOR times the nodes.
@@ -240,7 +259,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         J = np.empty(shape + (2 * W,), np.float32)
         J[..., :W] = beta_r * (m0[:, None, None] + a_coef * quad) / (4 * np.pi * (1 + a_coef / 3))
         for w in range(W):
-            J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w]) / forward[..., w]
+            J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w]) / forward_j[..., w]
         S = np.empty(shape + (2 * W,))                                            # [S_R, S_M / F(nu)]
         for rays, stencil, node_weight in paths:
             S[rays] = np.einsum("...kw,...kw->...w", node_weight, stencil.apply(J))

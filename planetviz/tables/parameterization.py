@@ -14,6 +14,8 @@ from the ground, rho = sqrt(r^2 - R_b^2) the same from radius r.
   u_mu_s from the distance to the top along mu_s seen from the ground, concentrated above mu_s_min;
   u_nu linear in nu over the range that (mu, mu_s) allow (``x_nu_from_nu``); mu_s_min = cos(108 deg) keeps
   twilight down to 18 deg below the horizon.
+* Scattering density J(r, mu, mu_s, nu) (internal to the multiple-scattering stage): as S, but u_mu =
+  theta / pi (``density_uvwz_from_r_mu_mu_s_nu``).
 
 Texture coordinates put texel centres at (i + 1/2) / n (``texcoord_from_unit_range``), as OpenGL does.
 """
@@ -118,6 +120,33 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     u_mu = np.where(intersects_ground, u_mu_g, u_mu_s_half)
     u_mu_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
     return x_nu_from_nu(mu, mu_s, nu), u_mu_s, u_mu, u_r
+
+
+def density_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, top, size):
+    """(u_nu, u_mu_s, u_mu, u_r) of the scattering density J (internal to the multiple-scattering stage):
+    u_r, u_mu_s and u_nu as for S; u_mu = theta / pi with theta the view zenith angle, texel centres at
+    (i + 1/2) / n. J(x, v) is a property of the point and the direction, continuous across the horizon: the
+    ground and sky halves of S, which follow the distance along the ray, would put every view below the
+    horizon from the lowest row onto one texel (the nadir: rays to the ground of zero length), and views
+    15 deg below the horizontal from 1 km next to it. ``intersects_ground`` is not used (the same signature
+    as :func:`scattering_uvwz_from_r_mu_mu_s_nu`)."""
+    n_nu, n_mu_s, n_mu, n_r = size
+    h = np.sqrt(top * top - bottom * bottom)
+    u_r = texcoord_from_unit_range(safe_sqrt(r * r - bottom * bottom) / h, n_r)
+    u_mu_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
+    return x_nu_from_nu(mu, mu_s, nu), u_mu_s, np.arccos(clamp_cosine(mu)) / np.pi, u_r
+
+
+def r_mu_mu_s_nu_from_density_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size):
+    """Inverse of :func:`density_uvwz_from_r_mu_mu_s_nu`: (r, mu, mu_s, nu)."""
+    n_nu, n_mu_s, n_mu, n_r = size
+    h = np.sqrt(top * top - bottom * bottom)
+    rho = h * unit_range_from_texcoord(u_r, n_r)
+    r = np.sqrt(rho * rho + bottom * bottom)
+    mu = np.cos(np.pi * u_mu)
+    mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(u_mu_s, n_mu_s), bottom, top)
+    nu = clamp_cosine(mu * mu_s + (2.0 * u_nu - 1.0) * safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)))
+    return r, mu, mu_s, nu
 
 
 #: Below this half-width sqrt((1 - mu^2)(1 - mu_s^2)) of nu's range (the view or the sun within 0.57 deg of
