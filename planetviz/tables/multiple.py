@@ -16,7 +16,8 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
    the Rayleigh-like part (a + b (w . v)^2) from the zeroth and second angular moments of L, which the
    quadrature integrates exactly; the Mie part from a kernel renormalised so that it integrates P_M to 1
    per texel (a coarse direction set cannot resolve a forward peak: renormalising keeps energy right);
-3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only);
+3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only), the particles'
+   part renormalised for their lobe toward the sun (``lobe_irradiance_factors``);
 4. S_n(r, mu, mu_s, nu) = int_0^d T(x, x_t) J_n(r_t, mu_t, mu_s,t, nu) dt (J read from its table; Gauss-Legendre
    nodes clustered at the closest approach, ``precompute.LONG_RAY_NODE_FACTOR`` times as many along rays
    longer than the ground's horizontal ray to the top, as in the single-scattering stage).
@@ -76,19 +77,23 @@ class _Incident:
             t_g = get_transmittance(tables, self.r, self.mu, d)
             self.ground_factor = np.where(self.ground[..., None], t_g * np.asarray(atm.ground_albedo) / np.pi, 0.0)
 
+    def sky_parts(self, tables, atm, order, ms_prev):
+        """(light last scattered by molecules, by particles) (..., K, W): the sky radiance of that order."""
+        if order == 1:
+            return (get_scattering(tables, tables.rayleigh, self.r, self.mu, self.mu_s, self.nu, self.ground)
+                    * atm.rayleigh.phase_function(self.nu)[..., None] * self.single_factor,
+                    get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground)
+                    * atm.mie.phase_function(self.nu) * self.single_factor)
+        both = self.stencil.apply(ms_prev)
+        W = both.shape[-1] // 2
+        if self.forward is None:                  # the same every order: computed once
+            self.forward = forward_factor(atm, self.nu)
+        return both[..., :W] * self.multiple_factor, self.forward * both[..., W:] * self.multiple_factor
+
     def radiance(self, tables, atm, order, ms_prev, irr_prev):
         """L_order (..., K, W): sky radiance of that order plus the ground lit by E_{order-1}."""
-        if order == 1:
-            sky = (get_scattering(tables, tables.rayleigh, self.r, self.mu, self.mu_s, self.nu, self.ground)
-                   * atm.rayleigh.phase_function(self.nu)[..., None]
-                   + get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground)
-                   * atm.mie.phase_function(self.nu)) * self.single_factor
-        else:
-            both = self.stencil.apply(ms_prev)
-            W = both.shape[-1] // 2
-            if self.forward is None:                  # the same every order: computed once
-                self.forward = forward_factor(atm, self.nu)
-            sky = (both[..., :W] + self.forward * both[..., W:]) * self.multiple_factor
+        molecules, particles = self.sky_parts(tables, atm, order, ms_prev)
+        sky = molecules + particles
         if not self.with_ground:
             return sky
         bottom = np.full(self.mu_s_g.shape, tables.bottom)
@@ -193,6 +198,52 @@ def _ray_paths(tables, atm, r, mu, mu_s, nu, ground, samples):
     return paths
 
 
+def sun_centred_quadrature(mu_s, n_alpha, n_beta):
+    """Directions (n, K, 3) around the sun s = (sqrt(1 - mu_s^2), 0, mu_s) for each mu_s (n,), and weights
+    (n, K) of the irradiance integral sum_k c_k L(w_k) = int_{w_z > 0} L(w) w_z dw for radiance symmetric about
+    the sun's vertical plane: the angle from the sun alpha = pi u^2, u on Gauss-Legendre nodes (clustered at
+    the sun), the azimuth around it on the midpoint rule over [0, pi] (x2: the mirrored half),
+    c_k = dw_k max(w_z, 0)."""
+    u, wu = np.polynomial.legendre.leggauss(n_alpha)
+    u, wu = 0.5 * (u + 1.0), 0.5 * wu
+    alpha = np.pi * u * u
+    beta = (np.arange(n_beta) + 0.5) * np.pi / n_beta
+    a, b = (x.ravel() for x in np.meshgrid(alpha, beta, indexing="ij"))
+    dw = np.repeat(2.0 * np.pi * u * wu * np.sin(alpha), n_beta) * (2.0 * np.pi / n_beta)
+    mu_s = np.asarray(mu_s, dtype=float)[:, None]
+    sin_s = np.sqrt(np.maximum(1.0 - mu_s * mu_s, 0.0))
+    # +z turned onto the sun in the x-z plane
+    x = np.sin(a) * np.cos(b) * mu_s + np.cos(a) * sin_s
+    z = -np.sin(a) * np.cos(b) * sin_s + np.cos(a) * mu_s
+    dirs = np.stack([x, np.broadcast_to(np.sin(a) * np.sin(b), x.shape), z], -1)
+    return dirs, dw * np.maximum(z, 0.0)
+
+
+def lobe_irradiance_factors(atm, dirs, cos_weights, mu_s, fine=32):
+    """(order 1, orders >= 2) factors (n_mu_s, W) on the particles' part of the sky radiance in the irradiance
+    integral E = sum_k c_k [L_R(w_k) + f L_M(w_k)] over the upward directions ``dirs`` (K, 3) with weights
+    ``cos_weights`` (K,) (mirrored azimuths included), for suns at mu_s (n_mu_s,).
+
+    L_M is a smooth function times the particles' lobe toward the sun: the phase function P_M(nu) for order 1
+    (single scattering without phase times P_M), the twice-scattered lobe F(nu) for the orders above
+    (``forward_factor``). f = int_{w_z > 0} lobe(w . s) w_z dw / sum_k c_k lobe(w_k . s), the integral on a
+    fine grid around the sun (``sun_centred_quadrature``): exact for a constant smooth part, as the Mie
+    kernels of J are renormalised. Under Mars dust's g = 0.91 lobe the 10x10 grid alone read the sky's
+    irradiance of the ground 33% low at 440 nm with the sun 60 deg up (against the tables' own sky integrated
+    over 96x192 directions); the ground seen from above and every order after read low with it."""
+    mu_s = np.asarray(mu_s, dtype=float)
+    sin_s = np.sqrt(np.maximum(1.0 - mu_s * mu_s, 0.0))[:, None]
+    nu = dirs[:, 0] * sin_s + dirs[:, 2] * mu_s[:, None]
+    fine_dirs, fine_weights = sun_centred_quadrature(mu_s, fine, fine)
+    nu_fine = fine_dirs[..., 0] * sin_s + fine_dirs[..., 2] * mu_s[:, None]
+    out = []
+    for lobe in (atm.mie.phase_function, lambda c: forward_factor(atm, c)):
+        grid = np.einsum("k,nkw->nw", cos_weights, lobe(nu))
+        exact = np.einsum("nk,nkw->nw", fine_weights, lobe(nu_fine))
+        out.append(exact / grid)
+    return out
+
+
 def density_grid(tables, size):
     """(r, mu, mu_s, nu) at the texel centres of the scattering density's table, each (n_r, n_mu, n_nu, n_mu_s):
     r and mu_s as in S's grid, mu uniform in the view zenith angle (``density_uvwz_from_r_mu_mu_s_nu``)."""
@@ -222,6 +273,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     up = dirs[:, 2] > 0
     sky_above = _Incident(tables, atm, r_irr, mu_s_irr, dirs[up], shape, with_ground=False)
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
+    lobe_factors = [f[None, :, None, :] for f in lobe_irradiance_factors(atm, dirs[up], cos_weights, mu_s_irr[0])]
 
     # Scattering density on its own grid (the same r and mu_s texels): Rayleigh-like phase
     # (1 + A c^2) / (4 pi (1 + A / 3)) by moments, Mie by kernels.
@@ -248,8 +300,8 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     order = 1
     for order in range(2, max_orders + 1):
         L = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev)          # (n_r, n_mu_s, K, W)
-        L_above = sky_above.radiance(tables, atm, order - 1, ms_prev, irr_prev)
-        e = np.einsum("k,abkw->abw", cos_weights, L_above)
+        molecules, particles = sky_above.sky_parts(tables, atm, order - 1, ms_prev)
+        e = np.einsum("k,abkw->abw", cos_weights, molecules + lobe_factors[order > 2] * particles)
         L_full = np.concatenate([L, L], axis=2) * np.concatenate([weights, weights])[:, None]
         m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
         m2 = np.einsum("kxy,abkw->abxyw", outer, L_full)                           # (n_r, n_mu_s, 3, 3, W)

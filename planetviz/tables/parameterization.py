@@ -171,7 +171,7 @@ def x_nu_from_nu(mu, mu_s, nu):
     [-0.5, 0.5] exists: two of the multiple-scattering tables' four nu texels, and the top mu_s texel (the
     sun at the zenith, nu = mu for every nu) held one geometry for all of them. Reading the Mars dust's
     forward-scattered light between such texels put the sky 10 km up +33% off the reference on that view
-    (MARS_PEAK, docs/tables.md); over the allowed range every texel is a real geometry, at least as densely
+    (docs/tables.md, Mars); over the allowed range every texel is a real geometry, at least as densely
     spaced in nu as Bruneton's.
     """
     root = np.maximum(safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)), NU_RANGE_FLOOR)
