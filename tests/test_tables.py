@@ -408,10 +408,9 @@ def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_sing
         sky, _ = sky_radiance(order_2, EARTH, np.tile(point, (len(dirs), 1)), dirs, sun)
         cos = dirs @ view
         h = np.array([r - B])
-        j = ((EARTH.mie.phase_function(cos) * sky) * dw[:, None]).sum(0) * np.asarray(EARTH.mie.scattering_m) \
-            * EARTH.mie.profile.density(h)[0] \
-            + ((EARTH.rayleigh.phase_function(cos) * dw)[:, None] * sky).sum(0) * np.asarray(EARTH.rayleigh.scattering_m) \
-            * EARTH.rayleigh.profile.density(h)[0]
+        j = sum((phase * dw[:, None] * sky).sum(0) * np.asarray(species.scattering_m) * species.profile.density(h)[0]
+                for species, phase in ((EARTH.mie, EARTH.mie.phase_function(cos)),
+                                       (EARTH.rayleigh, EARTH.rayleigh.phase_function(cos)[:, None])))
         direct += wk * np.exp(-optical_depth(EARTH, cam[None], view[None], np.array([tk]))[0]) * j
     assert np.allclose(table, direct, rtol=0.10), (table, direct)
 

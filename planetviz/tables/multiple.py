@@ -273,6 +273,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     up = dirs[:, 2] > 0
     sky_above = _Incident(tables, atm, r_irr, mu_s_irr, dirs[up], shape, with_ground=False)
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
+    # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_factors``)
     lobe_factors = [f[None, :, None, :] for f in lobe_irradiance_factors(atm, dirs[up], cos_weights, mu_s_irr[0])]
 
     # Scattering density on its own grid (the same r and mu_s texels): Rayleigh-like phase
