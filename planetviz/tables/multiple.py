@@ -35,8 +35,8 @@ import numpy as np
 from .lookup import (ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, ground_row_factor)
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
-                               distance_to_top_atmosphere_boundary, r_mu_mu_s_nu_from_density_uvwz,
-                               ray_intersects_ground, r_mu_s_from_irradiance_uv)
+                               distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
+                               r_mu_s_from_irradiance_uv)
 from ..optics.phase import PENNDORF_A, double_henyey_greenstein
 
 
@@ -244,16 +244,14 @@ def lobe_irradiance_factors(atm, dirs, cos_weights, mu_s, fine=32):
     return out
 
 
-def density_grid(tables, size):
-    """(r, mu, mu_s, nu) at the texel centres of the scattering density's table, each (n_r, n_mu, n_nu, n_mu_s):
-    r and mu_s as in S's grid, mu uniform in the view zenith angle (``density_uvwz_from_r_mu_mu_s_nu``)."""
-    n_nu, n_mu_s, n_mu, n_r = size
-    u_r = ((np.arange(n_r) + 0.5) / n_r)[:, None, None, None]
-    u_mu = ((np.arange(n_mu) + 0.5) / n_mu)[None, :, None, None]
-    u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
-    u_mu_s = ((np.arange(n_mu_s) + 0.5) / n_mu_s)[None, None, None, :]
-    out = r_mu_mu_s_nu_from_density_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
-    return tuple(np.ascontiguousarray(np.broadcast_to(a, (n_r, n_mu, n_nu, n_mu_s))) for a in out)
+def density_grid(mu_s, n_mu, n_nu):
+    """(mu, nu) at the texel centres of the scattering density's table for S's mu_s (..., n_mu_s) (its r and
+    mu_s texels are S's): mu uniform in the view zenith angle (``density_uvwz_from_r_mu_mu_s_nu``), nu over
+    the range that (mu, mu_s) allow, each (..., n_mu, n_nu, n_mu_s)."""
+    mu = np.cos(np.pi * (np.arange(n_mu) + 0.5) / n_mu)[:, None, None]
+    x_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[:, None]
+    mu_s = np.asarray(mu_s)[..., None, None, :]
+    return np.broadcast_to(mu, np.broadcast_shapes(mu.shape, mu_s.shape, x_nu.shape)), nu_from_x_nu(mu, mu_s, x_nu)
 
 
 def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
@@ -279,7 +277,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     # Scattering density on its own grid (the same r and mu_s texels): Rayleigh-like phase
     # (1 + A c^2) / (4 pi (1 + A / 3)) by moments, Mie by kernels.
     a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
-    _, mu_j, _, nu_j = density_grid(tables, size)
+    mu_j, nu_j = density_grid(mu_s[:, 0, 0, :], size[2], size[0])
     views = _view_vectors(mu_j, mu_s, nu_j)                   # (n_r, n_mu, n_nu, n_mu_s, 3)
     full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])])
     outer = np.einsum("ki,kj->kij", full_dirs, full_dirs)

@@ -103,7 +103,7 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     n_nu, n_mu_s, n_mu, n_r = size
     h = np.sqrt(top * top - bottom * bottom)
     rho = safe_sqrt(r * r - bottom * bottom)
-    u_r = texcoord_from_unit_range(rho / h, n_r)
+    u_r, u_mu_s = _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s)
     r_mu = r * mu
     disc = r_mu * r_mu - r * r + bottom * bottom
     # Ground rays: distance to the ground, from r - R_b (looking down) to rho (the horizon).
@@ -118,8 +118,13 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     x_s = refine_dipping_rays((d_s - dmin_s) / (dmax_s - dmin_s), r, bottom, top)
     u_mu_s_half = 0.5 + 0.5 * texcoord_from_unit_range(x_s, n_mu // 2)
     u_mu = np.where(intersects_ground, u_mu_g, u_mu_s_half)
-    u_mu_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
     return x_nu_from_nu(mu, mu_s, nu), u_mu_s, u_mu, u_r
+
+
+def _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s):
+    """(u_r, u_mu_s), the same for S and the scattering density J."""
+    u_r = texcoord_from_unit_range(safe_sqrt(r * r - bottom * bottom) / np.sqrt(top * top - bottom * bottom), n_r)
+    return u_r, texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
 
 
 def density_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, top, size):
@@ -131,22 +136,13 @@ def density_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, t
     15 deg below the horizontal from 1 km next to it. ``intersects_ground`` is not used (the same signature
     as :func:`scattering_uvwz_from_r_mu_mu_s_nu`)."""
     n_nu, n_mu_s, n_mu, n_r = size
-    h = np.sqrt(top * top - bottom * bottom)
-    u_r = texcoord_from_unit_range(safe_sqrt(r * r - bottom * bottom) / h, n_r)
-    u_mu_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
+    u_r, u_mu_s = _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s)
     return x_nu_from_nu(mu, mu_s, nu), u_mu_s, np.arccos(clamp_cosine(mu)) / np.pi, u_r
 
 
-def r_mu_mu_s_nu_from_density_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size):
-    """Inverse of :func:`density_uvwz_from_r_mu_mu_s_nu`: (r, mu, mu_s, nu)."""
-    n_nu, n_mu_s, n_mu, n_r = size
-    h = np.sqrt(top * top - bottom * bottom)
-    rho = h * unit_range_from_texcoord(u_r, n_r)
-    r = np.sqrt(rho * rho + bottom * bottom)
-    mu = np.cos(np.pi * u_mu)
-    mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(u_mu_s, n_mu_s), bottom, top)
-    nu = clamp_cosine(mu * mu_s + (2.0 * u_nu - 1.0) * safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)))
-    return r, mu, mu_s, nu
+def nu_from_x_nu(mu, mu_s, x):
+    """Inverse of :func:`x_nu_from_nu` (exact where nu's range is at least ``NU_RANGE_FLOOR`` wide)."""
+    return clamp_cosine(mu * mu_s + (2.0 * x - 1.0) * safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)))
 
 
 #: Below this half-width sqrt((1 - mu^2)(1 - mu_s^2)) of nu's range (the view or the sun within 0.57 deg of
@@ -288,5 +284,4 @@ def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size
     mu_sky = np.where(d_s == 0.0, 1.0, (h * h - rho * rho - d_s * d_s) / np.where(d_s == 0.0, 1.0, 2.0 * r * d_s))
     mu = clamp_cosine(np.where(ground, mu_g, mu_sky))
     mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(u_mu_s, n_mu_s), bottom, top)
-    nu = clamp_cosine(mu * mu_s + (2.0 * u_nu - 1.0) * safe_sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)))
-    return r, mu, mu_s, nu, ground
+    return r, mu, mu_s, nu_from_x_nu(mu, mu_s, u_nu), ground
