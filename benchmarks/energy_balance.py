@@ -14,7 +14,7 @@ Prints, per preset and wavelength, the tables' flux, the reference's with its st
 
 ``--balance`` needs no reference: the ground black and the sun 60 deg up, every photon either leaves at the top
 or reaches the ground, so mu_s = F_up(top) + E_sky(ground) + E_sun(ground) per unit solar irradiance, each flux
-from the tables (48 x 64 directions per hemisphere); it prints their sum over mu_s (Earth: 1.000 / 0.999 /
+from the tables (``flux_balance`` in tests/test_stability.py); it prints their sum over mu_s (Earth: 1.000 / 0.999 /
 0.997 at standard), faster than the reference for sweeping sizes.
 """
 import argparse
@@ -27,22 +27,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from planetviz import load_atmosphere  # noqa: E402
 from planetviz.reference import solve  # noqa: E402
 from planetviz.tables import QUALITY, precompute  # noqa: E402
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
-from planetviz.tables.lookup import get_transmittance_to_sun  # noqa: E402
-from test_stability import upward_flux_at_the_top  # noqa: E402
-
-
-def conservative(name, albedo=1.0):
-    """The preset ``name`` with nothing absorbed and a ground of ``albedo`` (white by default)."""
-    d = load_atmosphere(name).to_dict()
-    d["name"] = f"{name}-conservative"
-    d["absorption"] = []
-    d["mie"]["extinction_m"] = list(d["mie"]["scattering_m"])
-    d["ground_albedo"] = [albedo] * len(d["wavelengths_nm"])
-    return type(load_atmosphere(name)).from_dict(d)
+from test_stability import _conservative, flux_balance, upward_flux_at_the_top  # noqa: E402
 
 
 def sizes(quality, settings):
@@ -59,24 +47,6 @@ def sizes(quality, settings):
     return replace(QUALITY[quality], **changes)
 
 
-def balance(atm, tables, elevation_deg=60.0, n_mu=48, n_phi=64):
-    """(F_up(top) + E_sky(ground) + E_sun(ground)) / mu_s (W,): fluxes from the tables, Gauss-Legendre in mu and
-    the midpoint rule in azimuth over each hemisphere, 1 m inside the top and above the ground."""
-    x, w = np.polynomial.legendre.leggauss(n_mu)
-    mu, phi = np.meshgrid(0.5 * (x + 1.0), (np.arange(n_phi) + 0.5) * 2 * np.pi / n_phi, indexing="ij")
-    weight = (np.outer(0.5 * w, np.full(n_phi, 2 * np.pi / n_phi)) * mu).reshape(-1, 1)
-    sin = np.sqrt(1.0 - mu * mu)
-    up = np.stack([sin * np.cos(phi), sin * np.sin(phi), mu], -1).reshape(-1, 3)
-    mu_s = np.sin(np.radians(elevation_deg))
-    sun = np.array([np.cos(np.radians(elevation_deg)), 0.0, mu_s])
-    total = 0.0
-    for r, views in ((tables.top - 1.0, up * [1.0, 1.0, -1.0]), (tables.bottom + 1.0, up)):
-        radiance, _ = sky_radiance(tables, atm, np.tile([0.0, 0.0, r], (len(views), 1)), views, sun)
-        total = total + (radiance * weight).sum(0)
-    direct = get_transmittance_to_sun(tables, np.array([tables.bottom + 1.0]), np.array([mu_s]))[0] * mu_s
-    return (total + direct) / mu_s
-
-
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
@@ -91,17 +61,17 @@ def main():
         print("| preset | orders | precompute s | balance per wavelength |")
         print("|---|---|---|---|")
         for name in args.presets:
-            atm = conservative(name, albedo=0.0)
+            atm = _conservative(preset=name, albedo=0.0)
             start = time.perf_counter()
             tables = precompute(atm, table_sizes)
             seconds = time.perf_counter() - start
-            values = " / ".join(f"{b:.3f}" for b in balance(atm, tables))
+            values = " / ".join(f"{b:.3f}" for b in flux_balance(tables, atm))
             print(f"| {name} | {tables.orders} | {seconds:.1f} | {values} |", flush=True)
         return
     print("| preset | orders | precompute s | wavelength nm | tables | reference | tables / reference |")
     print("|---|---|---|---|---|---|---|")
     for name in args.presets:
-        atm = conservative(name)
+        atm = _conservative(preset=name)
         start = time.perf_counter()
         tables = precompute(atm, table_sizes)
         seconds = time.perf_counter() - start
