@@ -196,6 +196,29 @@ def test_no_jitter_two_metres_above_the_ground_and_no_jump_at_the_top(earth):
     assert np.max(np.abs(pics[0] - pics[1])[seen] / pics[0][seen]) < 1e-3
 
 
+
+def test_a_thick_planets_larger_multiple_table_renders_as_the_lut_command_reads_it(tmp_path):
+    # An optically thick atmosphere's multiple-scattering table has more r rows than its quality level's (16 at
+    # draft's 8, precompute.sizes_for): the shader must take the table's size from the table, as the NumPy
+    # evaluator does. The 10-bar CO2 planet from 10 km looking 10 deg down, the sun 30 deg up; bound and
+    # comparison as in test_shader_radiance_matches_the_lut_command (1%). Measured on llvmpipe: 9e-6.
+    scene = Scene("exo-co2-thick", quality="draft", surface=None, off_screen=True, window_size=SIZE)
+    try:
+        scene.wait_for_tables()
+        scene.view_from_ground(latitude=30, altitude=1e4, heading=200, pitch=-10, fov=70)
+        scene.set_sun(elevation=30, azimuth=150)
+        hdr = scene.render_hdr()
+        rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
+        keep = away_from_sun(scene, rows, cols)
+        lut = lut_radiance(scene, "exo-co2-thick", rows, cols, tmp_path).reshape(rows.shape + (3,))
+        got = hdr.radiance[rows, cols]
+        seen = lut.max(-1) > 0
+        assert keep.sum() > 100 and (seen & keep).sum() > 50
+        rel = np.abs(got - lut)[keep & seen] / lut[keep & seen]
+        assert rel.max() < 0.01, rel.max()
+    finally:
+        scene.close()
+
 def test_a_planet_far_away_is_drawn_and_matches_the_lut(earth, tmp_path):
     earth.view_from_space(distance=1e9, latitude=0, longitude=0, fov=1.2)   # the planet: 0.73 deg across
     earth.set_sun(elevation=60, azimuth=90)

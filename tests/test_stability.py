@@ -526,13 +526,14 @@ def test_energy_is_conserved_with_no_absorption_and_a_white_ground():
 def test_a_thick_atmosphere_over_a_black_ground_keeps_most_of_its_energy():
     # The 10-bar CO2 planet (tau = 4 at 440 nm) made conservative over a black ground, the sun 60 deg up: the
     # flux leaving at the top plus the flux reaching the ground must be the sun's (flux_balance = 1; the Earth
-    # reads 1.000 / 0.999 / 0.997 at standard). Measured, standard tables: 0.990 / 0.975 / 0.952 at 680 / 550 /
-    # 440 nm since the stage iterates the scattering density of a thick atmosphere on 2x S's r rows, from itself
-    # along the incident directions (table format 16, multiple.THICK_DENSITY_ROWS); 0.983 / 0.939 / 0.851 when
-    # it read the incident light from S (format 15: the views down squeezed into one texel interval of S's
-    # ground half, and the density interpolated between S's 8 rows), 0.899 at 440 nm with only the first
-    # fixed. Bound 0.93 at every wavelength, between the two; what is left (5% at 440 nm; 32 rows 0.966) is a
-    # known defect (THICK_LOSES_ENERGY in tests/test_tables.py). Above 1.003 the tables would create energy.
+    # reads 1.000 / 0.999 / 0.997 at standard). Measured, standard tables at table format 16: 0.992 / 0.980 /
+    # 0.964 at 680 / 550 / 440 nm (a thick atmosphere's scattering density iterated from itself on its own rows,
+    # multiple.THICK_DENSITY_ROWS, and 16 r rows in its multiple-scattering table, precompute.sizes_for). At
+    # format 15, reading the incident light from S (the views down squeezed into one texel interval of S's
+    # ground half, the density interpolated between S's 8 rows): 0.983 / 0.939 / 0.851, which fails; 0.899 at
+    # 440 nm with only the views down integrated, 0.952 with the density's rows but S's 8. Bound 0.93 at every
+    # wavelength; what is left (3.6% at 440 nm) is the tables' resolution (32 density rows over S's 8: 0.966).
+    # Above 1.003 the tables would create energy.
     atm = _conservative(preset="exo-co2-thick", albedo=0.0)
     balance = flux_balance(precompute(atm, QUALITY["standard"]), atm)
     assert np.all(balance >= 0.93) and np.all(balance <= 1.003), balance

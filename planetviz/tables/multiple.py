@@ -49,8 +49,8 @@ from ..optics.phase import PENNDORF_A, double_henyey_greenstein
 #: view from the nadir to 15 deg down from its lowest rows into one texel interval, and the density, which at a
 #: vertical optical depth of 4 changes within S's first row interval (1.6 km up at standard), not interpolated
 #: between S's 8 rows. The energy balance over a black ground (tests/test_stability.py, 440 nm, the 10-bar CO2
-#: planet): 0.851 reading S, 0.899 integrating only the directions that meet the ground, 0.952 on 16 rows of
-#: its own, 0.966 on 32 at 1.6x the time.
+#: planet, S at 8 r rows): 0.851 reading S, 0.899 integrating only the directions that meet the ground, 0.952
+#: on 16 rows of its own, 0.966 on 32 at 1.6x the time (with S at 16 rows, ``precompute.sizes_for``: 0.964).
 THICK_DENSITY_ROWS = 2
 
 
@@ -302,7 +302,7 @@ def geometric_tail(now, before, q_max=0.99):
     their angular and vertical shape has settled (many orders into an optically thick atmosphere). The 10-bar
     CO2 planet made conservative over a white ground needs 135 orders at tolerance 3e-3; cut at the cap of 64
     its upward flux at the top read 0.873 at 440 nm against 0.924 with all 135 and 0.929 with this tail (the
-    reference solver: 0.974; benchmarks/energy_balance.py)."""
+    multiple-scattering table at 8 r rows; the reference solver: 0.974; benchmarks/energy_balance.py)."""
     axes = tuple(range(now.ndim - 1))
     q = np.clip(now.sum(axes) / np.maximum(before.sum(axes), 1e-300), 0.0, q_max)
     return q / (1.0 - q)
@@ -312,7 +312,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
                         progress=None):
     """(multiple-scattering tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by molecules and by
     particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used)."""
-    from .precompute import scattering_grid
+    from .precompute import is_optically_thick, scattering_grid
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
     shape = r.shape
     W = atm.n_wavelengths
@@ -321,7 +321,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     # Optically thick (vertical optical depth above 1 at some wavelength): nodes within the first attenuation
     # lengths too, and the scattering density iterated on its own grid (THICK_DENSITY_ROWS times S's r rows)
     # from itself, the incident light integrated along the rays (``_Incident``).
-    thick = np.max(atm.vertical_optical_depth()) > 1.0
+    thick = is_optically_thick(atm)
     density_shape = shape
     along_rays = None
     if thick:
