@@ -41,6 +41,20 @@ def lut_radiance(scene, preset, rows, cols, tmp_path):
         return f["radiance"]
 
 
+def shader_matches_lut(scene, preset, tmp_path):
+    """The largest relative difference between the rendered HDR radiance and the lut command's on a grid of
+    pixels away from the sun, after checking that both see the planet in the same pixels."""
+    hdr = scene.render_hdr()
+    rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
+    keep = away_from_sun(scene, rows, cols)
+    lut = lut_radiance(scene, preset, rows, cols, tmp_path).reshape(rows.shape + (3,))
+    got = hdr.radiance[rows, cols]
+    seen = lut.max(-1) > 0
+    assert keep.sum() > 100 and (seen & keep).sum() > 50
+    assert np.array_equal(got.max(-1) > 0, seen)                  # the same pixels see the planet
+    return (np.abs(got - lut)[keep & seen] / lut[keep & seen]).max()
+
+
 def away_from_sun(scene, rows, cols, degrees=1.0):
     """Pixels whose rays are more than ``degrees`` from the sun (the evaluator has no sun disc)."""
     return scene.pixel_directions(rows, cols) @ scene.sun_direction < np.cos(np.radians(degrees))
@@ -62,16 +76,7 @@ def test_shader_radiance_matches_the_lut_command(earth, view, tmp_path):
     else:
         earth.view_from_ground(latitude=30, altitude=1e4, heading=200, pitch=-10, fov=70)
         earth.set_sun(elevation=8, azimuth=150)
-    hdr = earth.render_hdr()
-    rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
-    keep = away_from_sun(earth, rows, cols)
-    lut = lut_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
-    got = hdr.radiance[rows, cols]
-    seen = lut.max(-1) > 0
-    assert keep.sum() > 100 and (seen & keep).sum() > 50
-    assert np.array_equal(got.max(-1) > 0, seen)                  # the same pixels see the planet
-    rel = np.abs(got - lut)[keep & seen] / lut[keep & seen]
-    assert rel.max() < 0.01, rel.max()
+    assert shader_matches_lut(earth, "earth", tmp_path) < 0.01
 
 
 def luminance_image(scene):
@@ -207,15 +212,7 @@ def test_a_thick_planets_larger_multiple_table_renders_as_the_lut_command_reads_
         scene.wait_for_tables()
         scene.view_from_ground(latitude=30, altitude=1e4, heading=200, pitch=-10, fov=70)
         scene.set_sun(elevation=30, azimuth=150)
-        hdr = scene.render_hdr()
-        rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
-        keep = away_from_sun(scene, rows, cols)
-        lut = lut_radiance(scene, "exo-co2-thick", rows, cols, tmp_path).reshape(rows.shape + (3,))
-        got = hdr.radiance[rows, cols]
-        seen = lut.max(-1) > 0
-        assert keep.sum() > 100 and (seen & keep).sum() > 50
-        rel = np.abs(got - lut)[keep & seen] / lut[keep & seen]
-        assert rel.max() < 0.01, rel.max()
+        assert shader_matches_lut(scene, "exo-co2-thick", tmp_path) < 0.01
     finally:
         scene.close()
 
