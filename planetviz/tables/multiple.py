@@ -72,7 +72,7 @@ def direction_quadrature(n_theta: int, n_phi: int):
 class _Incident:
     """Geometry of the incident-radiance samples at points (r, mu_s) and directions w, fixed for all orders.
 
-    With ``along_rays`` = (the scattering density's table shape, nodes per side, thick), the orders >= 2 of
+    With ``along_rays`` = (the scattering density's table shape, nodes per side), the orders >= 2 of
     the sky light come from the previous order's scattering density integrated along each direction to the
     top or the ground (:func:`_density_along_rays`), not from S: the stage then iterates the density on its
     own grid, and S is only its output. Used for optically thick atmospheres (``multiple_scattering``)."""
@@ -84,6 +84,7 @@ class _Incident:
         self.mu = np.broadcast_to(dirs[:, 2], shape)
         self.nu = dirs[:, 0] * np.sqrt(np.maximum(1 - self.mu_s ** 2, 0.0)) + dirs[:, 2] * self.mu_s
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
+        d_ground = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
         self.forward = None
         # lookup.ground_row_factor of the single and the multiple-scattering tables at these points
         self.single_factor = ground_row_factor(tables, self.r, self.mu, self.ground, tables.rayleigh.shape[0])
@@ -92,14 +93,13 @@ class _Incident:
             self.multiple_factor = ground_row_factor(tables, self.r, self.mu, self.ground, ms_shape[0])
             self.rays = None
         else:
-            density_shape, samples, thick = along_rays
-            d = np.where(self.ground, distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom),
-                         distance_to_top_atmosphere_boundary(self.r, self.mu, tables.top))
+            density_shape, samples = along_rays
+            d = np.where(self.ground, d_ground, distance_to_top_atmosphere_boundary(self.r, self.mu, tables.top))
             self.rays = _density_along_rays(tables, atm, density_shape, self.r, self.mu, self.mu_s, self.nu,
-                                            self.ground, d, samples, thick)
+                                            self.ground, d, samples, thick=True)
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
-            d = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
+            d = d_ground
             self.mu_s_g = np.clip((self.r * self.mu_s + d * self.nu) / tables.bottom, -1.0, 1.0)
             t_g = get_transmittance(tables, self.r, self.mu, d)
             self.ground_factor = np.where(self.ground[..., None], t_g * np.asarray(atm.ground_albedo) / np.pi, 0.0)
@@ -327,7 +327,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     if thick:
         density_shape = (THICK_DENSITY_ROWS * shape[0],) + shape[1:]
         r_axis = scattering_grid(tables, size[:3] + (density_shape[0],))[0][:, 0, 0, 0]
-        along_rays = (density_shape, samples, thick)
+        along_rays = (density_shape, samples)
     incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], dirs, shape, along_rays=along_rays)
     n_mu_s_i, n_r_i = tables.sizes.irradiance
     u, v = np.meshgrid((np.arange(n_mu_s_i) + 0.5) / n_mu_s_i, (np.arange(n_r_i) + 0.5) / n_r_i)
