@@ -21,7 +21,7 @@
 //   multiple_mie_texture        sampler3D  multiple scattering last scattered by particles, divided by forward_factor
 //   rayleigh_scattering         vec4[MAX_GROUPS]  beta_R^s at the ground [1/m] (near_ground_single_scattering)
 //   mie_scattering              vec4[MAX_GROUPS]  beta_M^s at the ground [1/m]
-//   near_ground_altitude        float  altitude [m] of the single-scattering tables' row NEAR_GROUND_ROWS (2): ground
+//   near_ground_altitude        float  altitude [m] of the single-scattering tables' row NEAR_GROUND_ROWS (5): ground
 //                                      rays from cameras below it are integrated (planetviz/tables/near_ground.py)
 //   near_ground_density         float[2 * NEAR_GROUND_TABLE]  the Rayleigh, then the Mie density profile at
 //                                      NEAR_GROUND_TABLE altitudes from 0 to near_ground_altitude, read linearly
@@ -40,7 +40,7 @@ uniform sampler3D multiple_mie_texture;
 uniform vec4 rayleigh_scattering[MAX_GROUPS];
 uniform vec4 mie_scattering[MAX_GROUPS];
 uniform float near_ground_altitude;
-#define NEAR_GROUND_TABLE 32
+#define NEAR_GROUND_TABLE 64
 uniform float near_ground_density[2 * NEAR_GROUND_TABLE];
 
 float texcoord_from_unit_range(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
@@ -118,12 +118,15 @@ float x_mu_s_from_mu_s(float mu_s) {
 }
 
 // The sky half's refinement of the rays that dip below the horizontal, past the pivot x_p:
-// x_p + (1 - x_p)(1 - G(t)), t = (1 - x) / (1 - x_p), G(t) = (1 - w) t + w (a sqrt(t) + (1 - a) t^2), a = SQRT_SHARE;
-// parameterization.py's dipping_pivot_and_weight says how x_p and w follow the camera's altitude a, and why.
+// x_p + (1 - x_p)(1 - G(t)), t = (1 - x) / (1 - x_p), G(t) = (1 - w) t + w (a S_e(t) + (1 - a) t^2), a = SQRT_SHARE,
+// S_e(t) = (sqrt(t + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)) written without cancellation, e = LINEAR_ALTITUDE
+// (R_t - R_b) / a; parameterization.py's dipping_pivot_and_weight and refine_dipping_rays say how x_p, w and e
+// follow the camera's altitude a, and why.
 // h, d_min and d_max are the caller's (scattering_uvwz_from_r_mu_mu_s_nu's sky half), not recomputed per call.
 const float PIVOT_SMOOTHING = 0.03;
 const float REFINEMENT_ALTITUDE = 0.1;
 const float SQRT_SHARE = 5.0 / 6.0;
+const float LINEAR_ALTITUDE = 0.005;
 float refine_dipping_rays(float x, float a, float h, float d_min, float d_max) {
     float c = PIVOT_SMOOTHING * h;
     float s = max(d_min * (top_radius + radius_of(a)), 0.0);
@@ -131,7 +134,9 @@ float refine_dipping_rays(float x, float a, float h, float d_min, float d_max) {
     if (x <= x_p) return x;
     float w = 1.0 - exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * (top_radius - bottom_radius)));
     float t = clamp((1.0 - x) / max(1.0 - x_p, 1e-30), 0.0, 1.0);
-    float g = (1.0 - w) * t + w * (SQRT_SHARE * sqrt(t) + (1.0 - SQRT_SHARE) * t * t);
+    float e = LINEAR_ALTITUDE * (top_radius - bottom_radius) / max(a, 1e-9);
+    float softened_sqrt = t * (sqrt(1.0 + e) + sqrt(e)) / (sqrt(t + e) + sqrt(e));
+    float g = (1.0 - w) * t + w * (SQRT_SHARE * softened_sqrt + (1.0 - SQRT_SHARE) * t * t);
     return x_p + (1.0 - x_p) * (1.0 - g);
 }
 
@@ -235,11 +240,10 @@ vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, f
 
 // ------------------------------------------------------------------------------- near the ground (NumPy twin:
 // planetviz/tables/near_ground.py, whose docstring says why): single scattering of ground rays from cameras below
-// near_ground_altitude by an 8-node Gauss-Legendre rule on [0, d] with the tables' transmittances.
-const float NEAR_GROUND_NODES[8] = float[8](0.019855072, 0.101666761, 0.237233795, 0.408282679, 0.591717321,
-                                            0.762766205, 0.898333239, 0.980144928);
-const float NEAR_GROUND_WEIGHTS[8] = float[8](0.050614268, 0.111190517, 0.156853323, 0.181341892, 0.181341892,
-                                              0.156853323, 0.111190517, 0.050614268);
+// near_ground_altitude by a 4-node Gauss-Legendre rule on each lit part of the ray, before and after the part in
+// the planet's shadow (each half of the ray where there is none), with the tables' transmittances.
+const float NEAR_GROUND_NODES[4] = float[4](0.069431844, 0.330009478, 0.669990522, 0.930568156);
+const float NEAR_GROUND_WEIGHTS[4] = float[4](0.173927423, 0.326072577, 0.326072577, 0.173927423);
 
 bool near_ground_rays(float a, bool intersects_ground) { return intersects_ground && a < near_ground_altitude; }
 
@@ -251,6 +255,27 @@ float near_ground_density_at(int k, float a) {
                x - float(i));
 }
 
+// [t_0, t_1] within [0, d]: the part of the ray (a, mu) where the planet hides the sun, t_0 = t_1 = d / 2 where it
+// hides it nowhere (near_ground.py's shadow_interval: p(t) = r mu_s + t nu < 0 and f(t) = A t^2 + 2 B t + C < 0,
+// A = 1 - nu^2, B = r (mu - mu_s nu), C = r^2 - R_b^2 - r^2 mu_s^2, roots q / A and C / q).
+vec2 shadow_interval(float a, float mu, float mu_s, float nu, float d) {
+    float r = radius_of(a);
+    float A = max(1.0 - nu * nu, 1e-12);
+    float B = r * (mu - mu_s * nu);
+    float C = a * (a + 2.0 * bottom_radius) - r * r * mu_s * mu_s;
+    float disc = B * B - A * C;
+    float q = -(B + (B < 0.0 ? -1.0 : 1.0) * safe_sqrt(disc));
+    q = q == 0.0 ? -1e-30 : q;
+    float lo = min(q / A, C / q);
+    float hi = max(q / A, C / q);
+    if (nu > 0.0) hi = min(hi, -r * mu_s / nu);
+    if (nu < 0.0) lo = max(lo, -r * mu_s / nu);
+    lo = clamp(lo, 0.0, d);
+    hi = clamp(hi, 0.0, d);
+    bool none = disc <= 0.0 || hi <= lo || (nu == 0.0 && mu_s >= 0.0);
+    return none ? vec2(0.5 * d) : vec2(lo, hi);
+}
+
 // (S_R,1, S_M,1) of group g without phase, per unit solar irradiance, for a ground ray at (a, mu, mu_s, nu).
 void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int g, out vec4 s_r, out vec4 s_m) {
     float d = distance_to_bottom_atmosphere_boundary(a, mu);
@@ -258,15 +283,18 @@ void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int 
     s_r = vec4(0.0);
     s_m = vec4(0.0);
     if (d <= 0.0) return;                                    // a ray from the ground (the ground point's reading)
+    vec2 shadow = shadow_interval(a, mu, mu_s, nu, d);
     // get_transmittance(a, mu, t, g) of each node, with the camera's reading taken once.
     vec4 tau_camera = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
     for (int i = 0; i < 8; ++i) {
-        float t = d * NEAR_GROUND_NODES[i];
+        float start = i < 4 ? 0.0 : shadow.y;
+        float span = i < 4 ? shadow.x : d - shadow.y;
+        float t = start + span * NEAR_GROUND_NODES[i % 4];
         float a_t = altitude_along_ray(a, mu, t);
         float mu_t = clamp_cosine((r * mu + t) / radius_of(a_t));
         float mu_s_t = clamp_cosine((r * mu_s + t * nu) / radius_of(a_t));
         vec4 view = exp(-max(get_optical_depth_to_top_atmosphere_boundary(a_t, -mu_t, g) - tau_camera, 0.0));
-        vec4 path = (d * NEAR_GROUND_WEIGHTS[i]) * view * get_transmittance_to_sun(a_t, mu_s_t, g);
+        vec4 path = (span * NEAR_GROUND_WEIGHTS[i % 4]) * view * get_transmittance_to_sun(a_t, mu_s_t, g);
         s_r += path * near_ground_density_at(0, a_t);
         s_m += path * near_ground_density_at(1, a_t);
     }

@@ -34,14 +34,14 @@ TABLE_SHADERS = ("common.glsl", "atmosphere_functions.glsl", "atmosphere_ray.gls
 
 
 #: Altitudes at which the shaders get the density profiles near the ground (NEAR_GROUND_TABLE in GLSL).
-NEAR_GROUND_TABLE = 32
+NEAR_GROUND_TABLE = 64
 
 
 def near_ground_uniforms(atm, tables):
     """What shaders/atmosphere_functions.glsl's near_ground_single_scattering takes: the scattering coefficients,
-    the altitude below which it applies and the two density profiles up to there (linear between 32 altitudes:
-    at most 6e-6 relative for the Earth's 1.2 km Mie scale height up to standard quality's 247 m, 1e-4 up to
-    draft's 1.06 km)."""
+    the altitude below which it applies and the two density profiles up to there (linear between 64 altitudes:
+    at most 5.4e-5 relative for the Earth's 1.2 km Mie scale height up to standard quality's 1.57 km, 9.8e-4 up
+    to draft's 6.7 km)."""
     top = near_ground_altitude(tables)
     h = np.linspace(0.0, top, NEAR_GROUND_TABLE)
     per_group = lambda values: groups_array(pad_groups(values))

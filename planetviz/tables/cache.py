@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 #: Bump when the content or layout of any table changes: older files are then recomputed.
-FORMAT_VERSION = 16
+FORMAT_VERSION = 17
 
 STAGES = ("transmittance", "single_scattering", "multiple_scattering")
 

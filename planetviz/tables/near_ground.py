@@ -2,16 +2,24 @@
 tables (GLSL twin: ``near_ground_single_scattering`` in shaders/atmosphere_functions.glsl).
 
 Why. A ground ray from a camera between the single-scattering tables' rows 0 and ``NEAR_GROUND_ROWS`` is read by
-interpolating in r between the rays of those rows at the same u_mu: near the horizon these are 0 (row 0's ground
-rays have zero length), 58 km and 116 km long (draft; 28 and 56 km standard), where the camera's own ray is
-5 km long from 2 m. With the sun low the source function changes along those rays (the sun's elevation by 0.5
-deg over 58 km, and its transmittance with altitude), so the reading was off by up to 5.9% just below the
-horizon from 2 m (draft; 2.4% standard) and 4.1% from 100 m (standard) where the sky next to it was within 1-2%:
-a seam at the horizon (HORIZON_SEAM, docs/stability.md). :func:`lookup.ground_row_factor` had taken it from
-46% down to those figures. These rays are short (at most the distance to the horizon from row 2: 116 km draft,
-56 km standard) and their integrand smooth, so an 8-node Gauss-Legendre rule on [0, d] with the tables'
-transmittances is exact to well under the tables' own error (0.4% from 2 m draft, 0.1% standard, against the
-reference quadrature), for 8 view and 8 sun transmittance lookups per ray.
+interpolating in r between the rays of neighbouring rows at the same u_mu: near the horizon row 0's ground rays
+have zero length, row 1's are 58 km long (draft; 28 km standard), where the camera's own ray is 5 km long from
+2 m. With the sun low the source function changes along those rays (the sun's elevation by 0.5 deg over 58 km,
+and its transmittance with altitude), so the reading was off by up to 5.9% just below the horizon from 2 m
+(draft; 2.4% standard) and 4.1% from 100 m (standard) where the sky next to it was within 1-2%: a seam at the
+horizon (HORIZON_SEAM, docs/stability.md). :func:`lookup.ground_row_factor` had taken it from 46% down to those
+figures. The rows above the second still differ: with 2 rows, the standard tables read these rays 1.7% off
+from 400 m, 1.1% from 800 m and 0.8% from 1.3 km, against 0.6-0.7% for the rest of the sky (HORIZON_SEAM at
+altitudes the seam test did not sample); from row 5 on (1.57 km standard, 6.7 km draft) they are within
+0.5% (standard) and 1.4% (draft).
+
+How. These rays are short (at most the distance to the horizon from row 5: 290 km draft, 140 km standard) and
+their integrand smooth except where the ray enters the planet's shadow (the sun below the local horizon of the
+points further along): there the sunlight steps to 0, which Gauss-Legendre nodes at fixed places resolve
+poorly (45% off in twilight from 300 m with 8 nodes). :func:`shadow_interval` finds that part of the ray in
+closed form, and ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes go to each lit part before and after it (to each
+half of the ray where there is none), with the tables' transmittances: within 0.15% of the reference quadrature
+in daylight (standard) and 3.3% in twilight (1.7% draft), for 8 view and 8 sun transmittance lookups per ray.
 
 Switching at a row is continuous: there the tables hold their own quadrature of the same integral.
 """
@@ -23,9 +31,9 @@ from .parameterization import distance_to_bottom_atmosphere_boundary
 from .precompute import single_scattering_integral
 
 #: Ground rays from cameras below this row of the single-scattering tables are integrated.
-NEAR_GROUND_ROWS = 2
-#: Gauss-Legendre nodes on [0, d] along the ray.
-NEAR_GROUND_SAMPLES = 8
+NEAR_GROUND_ROWS = 5
+#: Gauss-Legendre nodes on each of the two lit segments of the ray.
+NEAR_GROUND_SAMPLES = 4
 
 
 def near_ground_altitude(t) -> float:
@@ -40,11 +48,43 @@ def near_ground_rays(t, r, intersects_ground):
     return np.asarray(intersects_ground) & (np.asarray(r) - t.bottom < near_ground_altitude(t))
 
 
+def shadow_interval(r, mu, mu_s, nu, d, bottom):
+    """[t_0, t_1] within [0, d]: the part of the ray (r, mu) where the planet hides the sun (mu_s, nu as for
+    the camera), or t_0 = t_1 where it hides it nowhere on the ray.
+
+    The point x_t = x + t v is in the shadow where its ray to the sun meets the ground: p(t) = x_t . s =
+    r mu_s + t nu < 0 and |x_t|^2 - p(t)^2 < R_b^2, i.e. f(t) = A t^2 + 2 B t + C < 0 with A = 1 - nu^2,
+    B = r (mu - mu_s nu), C = r^2 - R_b^2 - r^2 mu_s^2. f is convex, so both sets are intervals and so is the
+    shadow; the roots of f are taken in the stable form q / A, C / q."""
+    r, mu, mu_s, nu, d = np.broadcast_arrays(*(np.asarray(a, float) for a in (r, mu, mu_s, nu, d)))
+    a_ = np.maximum(1.0 - nu * nu, 1e-12)
+    b_ = r * (mu - mu_s * nu)
+    c_ = (r - bottom) * (r + bottom) - r * r * mu_s * mu_s
+    disc = b_ * b_ - a_ * c_
+    q = -(b_ + np.copysign(np.sqrt(np.maximum(disc, 0.0)), b_))
+    q = np.where(q == 0.0, -1e-300, q)
+    t_a, t_b = q / a_, c_ / q
+    lo, hi = np.minimum(t_a, t_b), np.maximum(t_a, t_b)
+    with np.errstate(divide="ignore"):
+        t_p = np.where(nu != 0.0, -r * mu_s / np.where(nu != 0.0, nu, 1.0), 0.0)
+    hi = np.where(nu > 0.0, np.minimum(hi, t_p), hi)
+    lo = np.where(nu < 0.0, np.maximum(lo, t_p), lo)
+    lo, hi = np.clip(lo, 0.0, d), np.clip(hi, 0.0, d)
+    none = (disc <= 0.0) | (hi <= lo) | ((nu == 0.0) & (mu_s >= 0.0))
+    return np.where(none, 0.5 * d, lo), np.where(none, 0.5 * d, hi)
+
+
 def near_ground_single_scattering(t, atm, r, mu, mu_s, nu):
     """(S_R,1, S_M,1) (..., W) without phase for ground rays at (r, mu, mu_s, nu): the integral of the
     precompute's single scattering (precompute.single_scattering_integral) over [0, d], d the distance to the
-    ground, with ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes; per unit solar irradiance."""
+    ground, with ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes on each of [0, t_0] and [t_1, d]
+    (:func:`shadow_interval`); per unit solar irradiance."""
     r, mu = np.asarray(r, float), np.asarray(mu, float)
-    d = distance_to_bottom_atmosphere_boundary(r, mu, t.bottom)[..., None]
+    d = distance_to_bottom_atmosphere_boundary(r, mu, t.bottom)
+    t_0, t_1 = (a[..., None] for a in shadow_interval(r, mu, mu_s, nu, d, t.bottom))
+    d = d[..., None]
     x, w = np.polynomial.legendre.leggauss(NEAR_GROUND_SAMPLES)
-    return single_scattering_integral(t, atm, r, mu, mu_s, nu, 0.5 * (x + 1.0) * d, 0.5 * w * d)
+    x, w = 0.5 * (x + 1.0), 0.5 * w
+    nodes = np.concatenate([x * t_0, t_1 + x * (d - t_1)], -1)
+    weights = np.concatenate([w * t_0, w * (d - t_1)], -1)
+    return single_scattering_integral(t, atm, r, mu, mu_s, nu, nodes, weights)

@@ -53,7 +53,7 @@ QUALITY = {
     "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         multiple_samples=4, directions=(8, 8), tolerance=1e-2),
-    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 96, 32), scattering_samples=8,
+    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 128, 32), scattering_samples=8,
                            multiple=(4, 32, 64, 8), multiple_samples=4, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
 }
