@@ -13,13 +13,14 @@ from 400 m, 1.1% from 800 m and 0.8% from 1.3 km, against 0.6-0.7% for the rest 
 altitudes the seam test did not sample); from row 5 on (1.57 km standard, 6.7 km draft) they are within
 0.5% (standard) and 1.4% (draft).
 
-How. These rays are short (at most the distance to the horizon from row 5: 290 km draft, 140 km standard) and
-their integrand smooth except where the ray enters the planet's shadow (the sun below the local horizon of the
-points further along): there the sunlight steps to 0, which Gauss-Legendre nodes at fixed places resolve
-poorly (45% off in twilight from 300 m with 8 nodes). :func:`shadow_interval` finds that part of the ray in
-closed form, and ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes go to each lit part before and after it (to each
-half of the ray where there is none), with the tables' transmittances: within 0.15% of the reference quadrature
-in daylight (standard) and 3.3% in twilight (1.7% draft), for 8 view and 8 sun transmittance lookups per ray.
+How. These rays are short (at most the distance to the horizon from row 5: 290 km draft, 140 km standard) and their
+integrand smooth except where the ray enters the planet's shadow (the sun below the local horizon of the points
+further along): there the sunlight steps to 0, which Gauss-Legendre nodes at fixed places resolve poorly (up to 48%
+off in twilight from 300 m with 8 nodes over the whole ray). :func:`shadow_interval` finds that part of the ray in
+closed form, and ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes go to each lit part before and after it (to each half
+of the ray where there is none), with the tables' transmittances: within 0.15% of the reference quadrature in
+daylight (standard) and at most 5% in twilight (draft, 300 m up, the sun 0.5 deg down; tests/test_stability.py),
+for 8 view and 8 sun transmittance lookups per ray, as before.
 
 Switching at a row is continuous: there the tables hold their own quadrature of the same integral.
 """
@@ -65,8 +66,7 @@ def shadow_interval(r, mu, mu_s, nu, d, bottom):
     q = np.where(q == 0.0, -1e-300, q)
     t_a, t_b = q / a_, c_ / q
     lo, hi = np.minimum(t_a, t_b), np.maximum(t_a, t_b)
-    with np.errstate(divide="ignore"):
-        t_p = np.where(nu != 0.0, -r * mu_s / np.where(nu != 0.0, nu, 1.0), 0.0)
+    t_p = -r * mu_s / np.where(nu != 0.0, nu, 1.0)                 # where p(t) changes sign (nu != 0)
     hi = np.where(nu > 0.0, np.minimum(hi, t_p), hi)
     lo = np.where(nu < 0.0, np.maximum(lo, t_p), lo)
     lo, hi = np.clip(lo, 0.0, d), np.clip(hi, 0.0, d)
