@@ -39,7 +39,7 @@ class TableSizes:
 
     transmittance: tuple = (256, 64)          # (n_mu, n_r)
     irradiance: tuple = (256, 16)             # (n_mu_s, n_r)
-    scattering: tuple = (8, 48, 128, 32)      # (n_nu, n_mu_s, n_mu, n_r)
+    scattering: tuple = (8, 48, 192, 32)      # (n_nu, n_mu_s, n_mu, n_r)
     transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
     scattering_samples: int = 16              # per side of the closest approach, single scattering
     multiple: tuple = (4, 32, 64, 16)         # (n_nu, n_mu_s, n_mu, n_r) of the multiple-scattering table
