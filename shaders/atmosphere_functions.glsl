@@ -268,11 +268,12 @@ vec2 shadow_interval(float a, float mu, float mu_s, float nu, float d) {
     q = q == 0.0 ? -1e-30 : q;
     float lo = min(q / A, C / q);
     float hi = max(q / A, C / q);
-    if (nu > 0.0) hi = min(hi, -r * mu_s / nu);
-    if (nu < 0.0) lo = max(lo, -r * mu_s / nu);
+    bool slope = abs(nu) > 1e-12;                            // NU_FLAT: below it p keeps mu_s's sign
+    if (slope && nu > 0.0) hi = min(hi, -r * mu_s / nu);
+    if (slope && nu < 0.0) lo = max(lo, -r * mu_s / nu);
     lo = clamp(lo, 0.0, d);
     hi = clamp(hi, 0.0, d);
-    bool none = disc <= 0.0 || hi <= lo || (nu == 0.0 && mu_s >= 0.0);
+    bool none = disc <= 0.0 || hi <= lo || (!slope && mu_s >= 0.0);
     return none ? vec2(0.5 * d) : vec2(lo, hi);
 }
 

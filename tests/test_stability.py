@@ -7,6 +7,7 @@ too) repeats the properties with ``LONG`` examples. Counts and findings: docs/st
 """
 import functools
 import re
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -285,6 +286,37 @@ def test_ground_rays_into_the_planets_shadow_match_the_reference(alt):
         lit = want[at] > 0.01 * want[at].max(0)
         if lit.any():
             assert np.max(np.abs(got[at] - want[at])[lit] / want[at][lit]) < 0.07
+
+
+def test_the_shadow_interval_matches_a_brute_force_search():
+    # near_ground.shadow_interval against the shadow condition tested at 200001 points of each ray (the point's
+    # ray to the sun meets the ground): 300 ground rays from 1 m to 7 km, suns from 10 deg below the horizon to 10
+    # deg above it. Bound: one sampling step (the ray's length / 2e5) at each end. Rays with a subnormal or zero
+    # nu (the sun's vertical at right angles to the view) must give the same interval without a warning: the
+    # division by nu overflowed there (found by CI's long run of the continuity property).
+    from planetviz.tables.near_ground import shadow_interval
+    from planetviz.tables.parameterization import distance_to_bottom_atmosphere_boundary
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        r = R + 10 ** rng.uniform(0, np.log10(7e3))
+        mu = -np.sqrt(1 - (R / r) ** 2) - rng.uniform(0, 0.2)
+        el, az = np.radians(rng.uniform(-10, 10)), rng.uniform(0, 2 * np.pi)
+        view = np.array([np.sqrt(1 - mu * mu), 0.0, mu])
+        sun = np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+        d = distance_to_bottom_atmosphere_boundary(r, mu, R)
+        lo, hi = shadow_interval(r, mu, sun[2], view @ sun, d, R)
+        t = np.linspace(0.0, d, 200001)
+        x = np.array([0.0, 0.0, r]) + t[:, None] * view
+        p = x @ sun
+        dark = (p < 0) & (np.sum(x * x, 1) - p * p < R * R)
+        if dark.any():
+            assert abs(lo - t[dark][0]) <= d / 2e5 and abs(hi - t[dark][-1]) <= d / 2e5
+        else:
+            assert lo == hi
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        flat = [shadow_interval(R + 3e3, -0.03, -0.02, nu, 1.5e5, R) for nu in (5e-324, -5e-324, 0.0)]
+    assert all(np.allclose(f, flat[2], rtol=1e-12) for f in flat)
 
 
 @functools.lru_cache(maxsize=None)

@@ -35,6 +35,8 @@ from .precompute import single_scattering_integral
 NEAR_GROUND_ROWS = 5
 #: Gauss-Legendre nodes on each of the two lit segments of the ray.
 NEAR_GROUND_SAMPLES = 4
+#: |nu| below which :func:`shadow_interval` takes the sun's side of a point as constant along the ray.
+NU_FLAT = 1e-12
 
 
 def near_ground_altitude(t) -> float:
@@ -66,11 +68,14 @@ def shadow_interval(r, mu, mu_s, nu, d, bottom):
     q = np.where(q == 0.0, -1e-300, q)
     t_a, t_b = q / a_, c_ / q
     lo, hi = np.minimum(t_a, t_b), np.maximum(t_a, t_b)
-    t_p = -r * mu_s / np.where(nu != 0.0, nu, 1.0)                 # where p(t) changes sign (nu != 0)
-    hi = np.where(nu > 0.0, np.minimum(hi, t_p), hi)
-    lo = np.where(nu < 0.0, np.maximum(lo, t_p), lo)
+    # p(t) changes sign at t_p = -r mu_s / nu; for |nu| <= NU_FLAT that lies beyond 1e12 r, off every ray, and
+    # p keeps the sign of mu_s (the division would overflow for subnormal nu).
+    slope = np.abs(nu) > NU_FLAT
+    t_p = -r * mu_s / np.where(slope, nu, 1.0)
+    hi = np.where(slope & (nu > 0.0), np.minimum(hi, t_p), hi)
+    lo = np.where(slope & (nu < 0.0), np.maximum(lo, t_p), lo)
     lo, hi = np.clip(lo, 0.0, d), np.clip(hi, 0.0, d)
-    none = (disc <= 0.0) | (hi <= lo) | ((nu == 0.0) & (mu_s >= 0.0))
+    none = (disc <= 0.0) | (hi <= lo) | (~slope & (mu_s >= 0.0))
     return np.where(none, 0.5 * d, lo), np.where(none, 0.5 * d, hi)
 
 
