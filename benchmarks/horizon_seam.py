@@ -12,7 +12,6 @@ allows 1.25). Takes about a minute per altitude (the reference quadrature).
 """
 import argparse
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from planetviz.reference.single import single_scattering  # noqa: E402
 from planetviz.tables import QUALITY, precompute  # noqa: E402
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
-from test_stability import EARTH, R, _single_scattering_error  # noqa: E402
+from test_stability import EARTH, R, _single_scattering_error, single_scattering_only  # noqa: E402
 
 OFFSETS = np.logspace(-6, -1.5, 46)
 
@@ -36,9 +35,7 @@ def dense_error(tables, alt):
     suns = np.stack([np.cos(el), 0 * el, np.sin(el)], 1)
     cams = np.tile([0.0, 0.0, R + alt], (len(mu), 1))
     scatter, ground = single_scattering(EARTH, cams, views, suns)
-    single = replace(tables, multiple=np.zeros_like(tables.multiple),
-                     multiple_mie=np.zeros_like(tables.multiple_mie), irradiance=np.zeros_like(tables.irradiance))
-    got, _ = sky_radiance(single, EARTH, cams, views, suns)
+    got, _ = sky_radiance(single_scattering_only(tables), EARTH, cams, views, suns)
     want = scatter + ground
     return np.repeat(OFFSETS, 4), np.max(np.abs(got - want) / want, axis=1)
 

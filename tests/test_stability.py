@@ -234,15 +234,19 @@ def _seam_rays(alt, mus, sun_deg=(5, 20, 60)):
     return cams, views, suns, scatter + ground
 
 
+def single_scattering_only(tables):
+    """``tables`` with the multiple-scattering and sky-irradiance tables set to 0: what they read is their single
+    scattering and directly lit ground, the part reference/single.py computes."""
+    return replace(tables, multiple=np.zeros_like(tables.multiple), multiple_mie=np.zeros_like(tables.multiple_mie),
+                   irradiance=np.zeros_like(tables.irradiance))
+
+
 def _single_scattering_error(alt, mus, tables=None):
     """Per ray, the largest relative error over the wavelengths of the tables' (default: the draft ``TABLES``)
     single scattering and directly lit ground (the multiple-scattering and sky-irradiance tables set to 0)
     against the deterministic quadrature of reference/single.py (``_seam_rays``)."""
-    tables = TABLES if tables is None else tables
-    single = replace(tables, multiple=np.zeros_like(tables.multiple),
-                     multiple_mie=np.zeros_like(tables.multiple_mie), irradiance=np.zeros_like(tables.irradiance))
     cams, views, suns, want = _seam_rays(alt, tuple(np.asarray(mus).tolist()))
-    got, _ = sky_radiance(single, EARTH, cams, views, suns)
+    got, _ = sky_radiance(single_scattering_only(TABLES if tables is None else tables), EARTH, cams, views, suns)
     return np.max(np.abs(got - want) / want, axis=1)
 
 
@@ -277,9 +281,7 @@ def test_ground_rays_into_the_planets_shadow_match_the_reference(alt):
     mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
     mus = tuple(np.concatenate([mu_h - np.logspace(-6, -2, 9), np.linspace(-1, mu_h - 0.02, 8)]).tolist())
     cams, views, suns, want = _seam_rays(alt, mus, sun_deg=(-0.5, -1, -2))
-    single = replace(TABLES, multiple=np.zeros_like(TABLES.multiple),
-                     multiple_mie=np.zeros_like(TABLES.multiple_mie), irradiance=np.zeros_like(TABLES.irradiance))
-    got, _ = sky_radiance(single, EARTH, cams, views, suns)
+    got, _ = sky_radiance(single_scattering_only(TABLES), EARTH, cams, views, suns)
     for sun in np.unique(suns[:, 2]):
         at = suns[:, 2] == sun
         assert np.all(got[at][want[at] == 0] == 0)
