@@ -19,12 +19,13 @@
 //   single_mie_texture          sampler3D  S_M, same layout
 //   multiple_texture            sampler3D  multiple scattering last scattered by molecules (phase included)
 //   multiple_mie_texture        sampler3D  multiple scattering last scattered by particles, divided by forward_factor
-//   rayleigh_scattering         vec4[MAX_GROUPS]  beta_R^s at the ground [1/m] (near_ground_single_scattering)
+//   rayleigh_scattering         vec4[MAX_GROUPS]  beta_R^s at the ground [1/m] (the quadratures along rays below)
 //   mie_scattering              vec4[MAX_GROUPS]  beta_M^s at the ground [1/m]
 //   near_ground_altitude        float  altitude [m] of the single-scattering tables' row NEAR_GROUND_ROWS (5): ground
 //                                      rays from cameras below it are integrated (planetviz/tables/near_ground.py)
-//   near_ground_density         float[2 * NEAR_GROUND_TABLE]  the Rayleigh, then the Mie density profile at
-//                                      NEAR_GROUND_TABLE altitudes from 0 to near_ground_altitude, read linearly
+//   density_texture             sampler2D  one row of n texels: the Rayleigh (r) and Mie (g) density profiles at the
+//                                      altitudes (i / (n - 1))^2 (R_t - R_b), i = 0 .. n - 1, read linearly
+//                                      (density_at; planetviz/render/atmosphere_actor.py's density_image)
 
 uniform float mu_s_min;
 uniform vec2 transmittance_size;
@@ -40,8 +41,7 @@ uniform sampler3D multiple_mie_texture;
 uniform vec4 rayleigh_scattering[MAX_GROUPS];
 uniform vec4 mie_scattering[MAX_GROUPS];
 uniform float near_ground_altitude;
-#define NEAR_GROUND_TABLE 64
-uniform float near_ground_density[2 * NEAR_GROUND_TABLE];
+uniform sampler2D density_texture;
 
 float texcoord_from_unit_range(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
 
@@ -77,14 +77,26 @@ float altitude_along_ray(float a, float mu, float d) {
     return min(c_d / (sqrt(c_d + bottom_radius * bottom_radius) + bottom_radius), top_radius - bottom_radius);
 }
 
-// tau between (a, mu) and the point at distance d on the ray's descending part (d <= -r mu): the reversed ray,
-// tau(a_d, -mu_d) - tau(a, -mu), as in the NumPy twin, whose other branches (rays up, rays past their lowest
-// point) no shader needs: every segment read here ends on the ground or before it.
+// tau between (a, mu) and the point at distance d along the ray, from readings of rays that point up only (the
+// NumPy twin's docstring says why): on the ray's descending part (d <= -r mu) the reversed ray, tau(a_d, -mu_d) -
+// tau(a, -mu); past its lowest point a_l, tau(a_l, 0) - tau(a, -mu) to it plus tau(a_l, 0) - tau(a_d, mu_d) from
+// it; rays up, tau(a, mu) - tau(a_d, mu_d).
 vec4 get_optical_depth(float a, float mu, float d, int g) {
+    float r = radius_of(a);
     float a_d = altitude_along_ray(a, mu, d);
-    float mu_d = clamp_cosine((radius_of(a) * mu + d) / radius_of(a_d));
-    return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g)
-               - get_optical_depth_to_top_atmosphere_boundary(a, -mu, g), 0.0);
+    float mu_d = clamp_cosine((r * mu + d) / radius_of(a_d));
+    if (mu >= 0.0) {
+        return max(get_optical_depth_to_top_atmosphere_boundary(a, mu, g)
+                   - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0);
+    }
+    vec4 tau_camera = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
+    if (d <= -r * mu) {
+        return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g) - tau_camera, 0.0);
+    }
+    float a_l = altitude_along_ray(a, mu, -r * mu);
+    vec4 tau_l = get_optical_depth_to_top_atmosphere_boundary(a_l, 0.0, g);
+    return max(tau_l - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0)
+        + max(tau_l - tau_camera, 0.0);
 }
 
 vec4 get_transmittance(float a, float mu, float d, int g) {
@@ -247,11 +259,13 @@ const float NEAR_GROUND_WEIGHTS[4] = float[4](0.173927423, 0.326072577, 0.326072
 
 bool near_ground_rays(float a, bool intersects_ground) { return intersects_ground && a < near_ground_altitude; }
 
-// Density of the Rayleigh (k = 0) or Mie (k = 1) component at altitude a in [0, near_ground_altitude].
-float near_ground_density_at(int k, float a) {
-    float x = clamp(a / near_ground_altitude, 0.0, 1.0) * float(NEAR_GROUND_TABLE - 1);
-    int i = min(int(x), NEAR_GROUND_TABLE - 2);
-    return mix(near_ground_density[k * NEAR_GROUND_TABLE + i], near_ground_density[k * NEAR_GROUND_TABLE + i + 1],
+// Density of the Rayleigh (k = 0) or Mie (k = 1) component at altitude a [m], linear between density_texture's
+// texels (at altitudes (i / (n - 1))^2 (R_t - R_b)).
+float density_at(int k, float a) {
+    int n = textureSize(density_texture, 0).x;
+    float x = sqrt(clamp(a / (top_radius - bottom_radius), 0.0, 1.0)) * float(n - 1);
+    int i = min(int(x), n - 2);
+    return mix(texelFetch(density_texture, ivec2(i, 0), 0)[k], texelFetch(density_texture, ivec2(i + 1, 0), 0)[k],
                x - float(i));
 }
 
@@ -296,16 +310,77 @@ void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int 
         float mu_s_t = clamp_cosine((r * mu_s + t * nu) / radius_of(a_t));
         vec4 view = exp(-max(get_optical_depth_to_top_atmosphere_boundary(a_t, -mu_t, g) - tau_camera, 0.0));
         vec4 path = (span * NEAR_GROUND_WEIGHTS[i % 4]) * view * get_transmittance_to_sun(a_t, mu_s_t, g);
-        s_r += path * near_ground_density_at(0, a_t);
-        s_m += path * near_ground_density_at(1, a_t);
+        s_r += path * density_at(0, a_t);
+        s_m += path * density_at(1, a_t);
+    }
+    s_r *= rayleigh_scattering[g];
+    s_m *= mie_scattering[g];
+}
+
+// ------------------------------------------------------------------- next to the horizon (NumPy twin:
+// planetviz/tables/horizon.py, whose docstring says why): single scattering of the rays within HORIZON_BAND of the
+// horizon's direction by Gauss-Legendre nodes on each side of the closest approach of each lit part of the ray,
+// blended into the tables' reading by horizon_share.
+#define HORIZON_SAMPLES 8
+const vec2 HORIZON_BAND = vec2(0.01, 0.03);
+const float HORIZON_NODES[8] = float[8](0.019855072, 0.101666761, 0.237233795, 0.408282679, 0.591717321,
+                                        0.762766205, 0.898333239, 0.980144928);
+const float HORIZON_WEIGHTS[8] = float[8](0.050614268, 0.111190517, 0.156853323, 0.181341892, 0.181341892,
+                                          0.156853323, 0.111190517, 0.050614268);
+const float HORIZON_NODES_ONE_SIDE[16] = float[16](0.005299533, 0.027712488, 0.067184399, 0.122297796,
+    0.191061878, 0.270991611, 0.359198225, 0.452493745, 0.547506255, 0.640801775, 0.729008389, 0.808938122,
+    0.877702204, 0.932815601, 0.972287512, 0.994700467);
+const float HORIZON_WEIGHTS_ONE_SIDE[16] = float[16](0.013576230, 0.031126762, 0.047579256, 0.062314486,
+    0.074797994, 0.084578260, 0.091301708, 0.094725305, 0.094725305, 0.091301708, 0.084578260, 0.074797994,
+    0.062314486, 0.047579256, 0.031126762, 0.013576230);
+
+float horizon_share(float a, float mu) {
+    float mu_h = -sqrt(a * (a + 2.0 * bottom_radius)) / radius_of(a);
+    float x = clamp((HORIZON_BAND.y - abs(mu - mu_h)) / (HORIZON_BAND.y - HORIZON_BAND.x), 0.0, 1.0);
+    return x * x * (3.0 - 2.0 * x);
+}
+
+// Node k (0 .. 2 HORIZON_SAMPLES - 1) of precompute.py's ray_nodes on [start, end] along (a, mu): t = t_c -+ span u^2
+// on each side of the closest approach t_c, or all nodes on the one side there is where t_c is an end.
+vec2 ray_node(float a, float mu, float start, float end, int k) {
+    float t_c = clamp(-radius_of(a) * mu, start, end);
+    if (t_c <= start || t_c >= end) {
+        float span = end - start;
+        float u = HORIZON_NODES_ONE_SIDE[k];
+        float t = t_c <= start ? start + span * u * u : end - span * u * u;
+        return vec2(t, 2.0 * span * u * HORIZON_WEIGHTS_ONE_SIDE[k]);
+    }
+    float u = HORIZON_NODES[k % HORIZON_SAMPLES];
+    float span = k < HORIZON_SAMPLES ? t_c - start : end - t_c;
+    float t = k < HORIZON_SAMPLES ? t_c - span * u * u : t_c + span * u * u;
+    return vec2(t, 2.0 * span * u * HORIZON_WEIGHTS[k % HORIZON_SAMPLES]);
+}
+
+// (S_R,1, S_M,1) of group g without phase, per unit solar irradiance, of the ray (a, mu) to the ground or the top.
+void horizon_single_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g,
+                               out vec4 s_r, out vec4 s_m) {
+    float d = intersects_ground ? distance_to_bottom_atmosphere_boundary(a, mu)
+                                : distance_to_top_atmosphere_boundary(a, mu);
+    float r = radius_of(a);
+    vec2 shadow = shadow_interval(a, mu, mu_s, nu, d);
+    s_r = vec4(0.0);
+    s_m = vec4(0.0);
+    for (int k = 0; k < 4 * HORIZON_SAMPLES; ++k) {
+        bool lit_before = k < 2 * HORIZON_SAMPLES;
+        vec2 node = ray_node(a, mu, lit_before ? 0.0 : shadow.y, lit_before ? shadow.x : d, k % (2 * HORIZON_SAMPLES));
+        float a_t = altitude_along_ray(a, mu, node.x);
+        float mu_s_t = clamp_cosine((r * mu_s + node.x * nu) / radius_of(a_t));
+        vec4 path = node.y * get_transmittance(a, mu, node.x, g) * get_transmittance_to_sun(a_t, mu_s_t, g);
+        s_r += path * density_at(0, a_t);
+        s_m += path * density_at(1, a_t);
     }
     s_r *= rayleigh_scattering[g];
     s_m *= mie_scattering[g];
 }
 
 // In-scattered radiance of group g (the evaluator's _phased): single scattering with its phases, from the tables
-// or, for ground rays from near the ground, near_ground_single_scattering; plus multiple scattering with its
-// tables' ground_row_factor.
+// or, for ground rays from near the ground, near_ground_single_scattering, and next to the horizon blended with
+// horizon_single_scattering; plus multiple scattering with its tables' ground_row_factor.
 vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
     vec4 s_r, s_m;
     if (near_ground_rays(a, intersects_ground)) {
@@ -313,6 +388,13 @@ vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool interse
     } else {
         s_r = get_scattering(single_rayleigh_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
         s_m = get_scattering(single_mie_texture, single_size, a, mu, mu_s, nu, intersects_ground, g);
+        float share = horizon_share(a, mu);
+        if (share > 0.0) {
+            vec4 q_r, q_m;
+            horizon_single_scattering(a, mu, mu_s, nu, intersects_ground, g, q_r, q_m);
+            s_r += share * (q_r - s_r);
+            s_m += share * (q_m - s_m);
+        }
     }
     vec4 s_ms = get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);
     vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, g);

@@ -33,23 +33,30 @@ from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camer
 TABLE_SHADERS = ("common.glsl", "atmosphere_functions.glsl", "atmosphere_ray.glsl")
 
 
-#: Altitudes at which the shaders get the density profiles near the ground (NEAR_GROUND_TABLE in GLSL).
-NEAR_GROUND_TABLE = 64
+#: Altitudes at which the shaders get the density profiles (density_texture, read by density_at in GLSL).
+DENSITY_TABLE = 1024
 
 
-def near_ground_uniforms(atm, tables):
-    """What shaders/atmosphere_functions.glsl's near_ground_single_scattering takes: the scattering coefficients,
-    the altitude below which it applies and the two density profiles up to there (linear between 64 altitudes:
-    at most 5.4e-5 relative for the Earth's 1.2 km Mie scale height up to standard quality's 1.57 km, 9.8e-4 up
-    to draft's 6.7 km)."""
-    top = near_ground_altitude(tables)
-    h = np.linspace(0.0, top, NEAR_GROUND_TABLE)
+def ray_quadrature_uniforms(atm, tables):
+    """What shaders/atmosphere_functions.glsl's quadratures along rays (near_ground_single_scattering,
+    horizon_single_scattering) take besides :func:`density_image`: the scattering coefficients and the altitude
+    below which ground rays are integrated."""
     per_group = lambda values: groups_array(pad_groups(values))
     return {"rayleigh_scattering": ("4fv", per_group(atm.rayleigh.scattering_m)),
             "mie_scattering": ("4fv", per_group(atm.mie.scattering_m)),
-            "near_ground_altitude": ("f", top),
-            "near_ground_density": ("1fv", np.concatenate([atm.rayleigh.profile.density(h),
-                                                            atm.mie.profile.density(h)]))}
+            "near_ground_altitude": ("f", near_ground_altitude(tables))}
+
+
+def density_image(atm, n=DENSITY_TABLE):
+    """density_texture: (1, n, 4) float32, the Rayleigh and the Mie density profiles (r, g) at the altitudes
+    (i / (n - 1))^2 (R_t - R_b), dense near the ground. Read linearly between them, the Earth's Mie profile
+    (1.2 km scale height) is within 1.9e-5 of its value below standard's near-ground altitude (1.57 km), and
+    3.2e-4 wherever it is above 1e-6 of its value at the ground (Rayleigh: 1.8e-6 and 2.5e-5)."""
+    h = (np.arange(n) / (n - 1)) ** 2 * atm.thickness_m
+    image = np.zeros((1, n, 4), np.float32)
+    image[0, :, 0] = atm.rayleigh.profile.density(h)
+    image[0, :, 1] = atm.mie.profile.density(h)
+    return image
 
 
 class TableTextures:
@@ -80,7 +87,7 @@ class TableTextures:
             "albedo_weights": ("4fv", alb_w.reshape(-1, 4)),
             "use_surface_texture": ("i", int(self.surface is not None)),
             "surface_face_size": ("f", self._cube().shape[1] - 2),
-            **near_ground_uniforms(atm, t),
+            **ray_quadrature_uniforms(atm, t),
         }
 
     def _cube(self):
@@ -99,7 +106,8 @@ class TableTextures:
                 "single_rayleigh_texture": upload(render_window, pack_3d(t.rayleigh), half_float=half),
                 "single_mie_texture": upload(render_window, pack_3d(t.mie), half_float=half),
                 "multiple_texture": upload(render_window, pack_3d(t.multiple), half_float=half),
-                "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half)}
+                "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half),
+                "density_texture": upload(render_window, density_image(self.atmosphere))}
             self._textures["surface_faces"] = upload(render_window, self._cube(), srgb=True, layers=True)
         for name, tex in self._textures.items():
             tex.Activate()

@@ -114,25 +114,27 @@ def _gauss_legendre_unit(n):
     return 0.5 * (x + 1.0), 0.5 * w
 
 
-def ray_nodes(r, mu, d, n):
-    """Quadrature nodes t (..., 2n) and weights on [0, d] along (r, mu), clustered at the closest approach.
+def ray_nodes(r, mu, d, n, start=0.0):
+    """Quadrature nodes t (..., 2n) and weights on [start, d] along (r, mu), clustered at the closest approach.
 
-    Gauss-Legendre with t = t_c -+ span u^2 on each side of the closest approach t_c; where t_c is an end of
-    the ray (rays going up, or reaching the ground before their closest approach) all 2n nodes go to the
-    one side there is.
+    Gauss-Legendre with t = t_c -+ span u^2 on each side of the closest approach t_c (clamped to the segment);
+    where t_c is an end of the segment (rays going up, or reaching the ground before their closest approach)
+    all 2n nodes go to the one side there is.
     """
     u, wu = _gauss_legendre_unit(n)
     u2, wu2 = _gauss_legendre_unit(2 * n)
+    s = np.asarray(start, dtype=float)
     dd = np.asarray(d, dtype=float)[..., None]
-    tc = np.clip(-r * mu, 0.0, d)[..., None]
-    before = tc - tc * u * u                      # t from t_c down to 0
+    tc = np.clip(-r * mu, s, d)[..., None]
+    s = s[..., None]
+    before = tc - (tc - s) * u * u                # t from t_c down to start
     after = tc + (dd - tc) * u * u                # t from t_c up to d
-    wb = 2.0 * tc * u * wu
+    wb = 2.0 * (tc - s) * u * wu
     wa = 2.0 * (dd - tc) * u * wu
     t, wt = np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
-    one_side = dd * u2 * u2, 2.0 * dd * u2 * wu2            # clustered at t = 0
-    t = np.where(tc <= 0.0, one_side[0], np.where(tc >= dd, dd - one_side[0], t))
-    wt = np.where((tc <= 0.0) | (tc >= dd), one_side[1], wt)
+    span = dd - s
+    t = np.where(tc <= s, s + span * u2 * u2, np.where(tc >= dd, dd - span * u2 * u2, t))
+    wt = np.where((tc <= s) | (tc >= dd), 2.0 * span * u2 * wu2, wt)
     return t, wt
 
 
