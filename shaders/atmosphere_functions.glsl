@@ -23,6 +23,8 @@
 //   mie_scattering              vec4[MAX_GROUPS]  beta_M^s at the ground [1/m]
 //   near_ground_altitude        float  altitude [m] of the single-scattering tables' row NEAR_GROUND_ROWS (5): ground
 //                                      rays from cameras below it are integrated (planetviz/tables/near_ground.py)
+//   horizon_quadrature          int    1: the rays next to the horizon's direction are integrated (horizon_share),
+//                                      0 for optically thick atmospheres (planetviz/tables/horizon.py)
 //   density_texture             sampler2D  one row of n texels: the Rayleigh (r) and Mie (g) density profiles at the
 //                                      altitudes (i / (n - 1))^2 (R_t - R_b), i = 0 .. n - 1, read linearly
 //                                      (density_at; planetviz/render/atmosphere_actor.py's density_image)
@@ -41,6 +43,7 @@ uniform sampler3D multiple_mie_texture;
 uniform vec4 rayleigh_scattering[MAX_GROUPS];
 uniform vec4 mie_scattering[MAX_GROUPS];
 uniform float near_ground_altitude;
+uniform int horizon_quadrature;
 uniform sampler2D density_texture;
 
 float texcoord_from_unit_range(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
@@ -269,9 +272,11 @@ float density_at(int k, float a) {
                x - float(i));
 }
 
-// [t_0, t_1] within [0, d]: the part of the ray (a, mu) where the planet hides the sun, t_0 = t_1 = d / 2 where it
-// hides it nowhere (near_ground.py's shadow_interval: p(t) = r mu_s + t nu < 0 and f(t) = A t^2 + 2 B t + C < 0,
-// A = 1 - nu^2, B = r (mu - mu_s nu), C = r^2 - R_b^2 - r^2 mu_s^2, roots q / A and C / q).
+// [t_0, t_1] within [0, d]: the part of the ray (a, mu) where the planet hides the sun, t_0 = t_1 where it hides
+// it nowhere, at the point where a shadow would appear first (near_ground.py's shadow_interval, whose docstring has
+// the derivation: f(t) = A t^2 + 2 B t + C < 0 on [lo, hi], A = 1 - nu^2, B = r (mu - mu_s nu), C = r^2 - R_b^2 -
+// r^2 mu_s^2, roots q / A and C / q, or lo = hi = -B / A without roots; the shadow is where p(t) = r mu_s + t nu
+// < 0 within [lo, hi]).
 vec2 shadow_interval(float a, float mu, float mu_s, float nu, float d) {
     float r = radius_of(a);
     float A = max(1.0 - nu * nu, 1e-12);
@@ -280,15 +285,19 @@ vec2 shadow_interval(float a, float mu, float mu_s, float nu, float d) {
     float disc = B * B - A * C;
     float q = -(B + (B < 0.0 ? -1.0 : 1.0) * safe_sqrt(disc));
     q = q == 0.0 ? -1e-30 : q;
-    float lo = min(q / A, C / q);
-    float hi = max(q / A, C / q);
-    bool slope = abs(nu) > 1e-12;                            // NU_FLAT: below it p keeps mu_s's sign
-    if (slope && nu > 0.0) hi = min(hi, -r * mu_s / nu);
-    if (slope && nu < 0.0) lo = max(lo, -r * mu_s / nu);
+    float lo = disc > 0.0 ? min(q / A, C / q) : -B / A;
+    float hi = disc > 0.0 ? max(q / A, C / q) : -B / A;
     lo = clamp(lo, 0.0, d);
     hi = clamp(hi, 0.0, d);
-    bool none = disc <= 0.0 || hi <= lo || (!slope && mu_s >= 0.0);
-    return none ? vec2(0.5 * d) : vec2(lo, hi);
+    float p_lo = r * mu_s + lo * nu;
+    float p_hi = r * mu_s + hi * nu;
+    if (p_lo >= 0.0 && p_hi >= 0.0) {
+        float total = p_lo + p_hi;
+        return vec2(total > 0.0 ? (lo * p_hi + hi * p_lo) / total : lo);
+    }
+    if (p_lo < 0.0 && p_hi < 0.0) return vec2(lo, hi);
+    float t_p = lo + (hi - lo) * p_lo / (p_lo - p_hi);
+    return p_lo < 0.0 ? vec2(lo, t_p) : vec2(t_p, hi);
 }
 
 // (S_R,1, S_M,1) of group g without phase, per unit solar irradiance, for a ground ray at (a, mu, mu_s, nu).
@@ -335,6 +344,7 @@ const float HORIZON_WEIGHTS_ONE_SIDE[16] = float[16](0.013576230, 0.031126762, 0
     0.062314486, 0.047579256, 0.031126762, 0.013576230);
 
 float horizon_share(float a, float mu) {
+    if (horizon_quadrature == 0) return 0.0;
     float mu_h = -sqrt(a * (a + 2.0 * bottom_radius)) / radius_of(a);
     float x = clamp((HORIZON_BAND.y - abs(mu - mu_h)) / (HORIZON_BAND.y - HORIZON_BAND.x), 0.0, 1.0);
     return x * x * (3.0 - 2.0 * x);

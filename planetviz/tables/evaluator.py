@@ -21,7 +21,7 @@ from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
 from .lookup import (get_irradiance, get_scattering, get_transmittance, ground_row_factor,
                      get_transmittance_to_sun, get_transmittance_to_top_atmosphere_boundary)
-from .horizon import horizon_share, horizon_single_scattering
+from .horizon import horizon_quadrature_applies, horizon_share, horizon_single_scattering
 from .near_ground import near_ground_rays, near_ground_single_scattering
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
@@ -41,7 +41,7 @@ def _phased(tables, atm, r, mu, mu_s, nu, ground):
             s_r[near], s_m[near] = near_ground_single_scattering(tables, atm, r[near], mu[near], mu_s[near], nu[near])
         share = np.where(near, 0.0, horizon_share(r, mu, tables.bottom))
         band = share > 0.0
-        if np.any(band):
+        if np.any(band) and horizon_quadrature_applies(atm):
             q_r, q_m = horizon_single_scattering(tables, atm, r[band], mu[band], mu_s[band], nu[band], ground[band])
             w = share[band][..., None]
             s_r[band] += w * (q_r - s_r[band])
