@@ -283,8 +283,7 @@ vec2 shadow_interval(float a, float mu, float mu_s, float nu, float d) {
     float B = r * (mu - mu_s * nu);
     float C = a * (a + 2.0 * bottom_radius) - r * r * mu_s * mu_s;
     float disc = B * B - A * C;
-    float q = -(B + (B < 0.0 ? -1.0 : 1.0) * safe_sqrt(disc));
-    q = q == 0.0 ? -1e-30 : q;
+    float q = disc > 0.0 ? -(B + (B < 0.0 ? -1.0 : 1.0) * sqrt(disc)) : 1.0;   // |q| >= sqrt(disc) > 0
     float lo = disc > 0.0 ? min(q / A, C / q) : -B / A;
     float hi = disc > 0.0 ? max(q / A, C / q) : -B / A;
     lo = clamp(lo, 0.0, d);

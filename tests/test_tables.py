@@ -1,4 +1,5 @@
 """The precomputed tables: mappings, texture reads, each stage against the reference, and the CLI."""
+import importlib
 import subprocess
 import sys
 from dataclasses import replace
@@ -378,7 +379,19 @@ def test_forward_factor_is_a_normalised_lobe_with_the_squared_asymmetry(name):
                        atol=1e-5)
 
 
-def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along_the_rays(standard_single):
+def multiple_only(monkeypatch, tables, camera, view, sun):
+    """sky_radiance of the multiple-scattering and irradiance tables alone: the single-scattering tables zeroed and
+    read for every ray, without tables/near_ground.py's and tables/horizon.py's quadratures (which integrate single
+    scattering from the transmittance table, so that zeroing the tables would not remove it)."""
+    evaluator = importlib.import_module("planetviz.tables.evaluator")
+    zero = np.zeros_like(tables.rayleigh)
+    with monkeypatch.context() as m:
+        m.setattr(evaluator, "near_ground_rays", lambda t, r, ground: np.zeros(np.shape(r), bool))
+        m.setattr(evaluator, "horizon_share", lambda r, mu, bottom: np.zeros(np.shape(mu)))
+        return sky_radiance(replace(tables, rayleigh=zero, mie=zero), EARTH, camera, view, sun)
+
+def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along_the_rays(standard_single,
+                                                                                           monkeypatch):
     # From 1000 km through the limb whose lowest point is 10 km up (a 1600 km ray whose density peaks at its
     # middle), order 2 alone at standard sizes against the same stage with 4x the nodes along every texel's
     # ray: the integration along the rays must have converged to 2% (it is not the tables' main error there:
@@ -394,14 +407,12 @@ def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along
     for samples in (sizes.multiple_samples, 4 * sizes.multiple_samples):
         ms, ms_mie, _, _ = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
                                                samples=samples, tolerance=0.0, max_orders=2)
-        only_2 = replace(standard_single, rayleigh=np.zeros_like(standard_single.rayleigh),
-                         mie=np.zeros_like(standard_single.mie), multiple=ms.astype(np.float32),
-                         multiple_mie=ms_mie.astype(np.float32))
-        order_2.append(sky_radiance(only_2, EARTH, cam[None], view[None], sun)[0][0])
+        only_2 = replace(standard_single, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32))
+        order_2.append(multiple_only(monkeypatch, only_2, cam[None], view[None], sun)[0][0])
     assert np.allclose(order_2[0], order_2[1], rtol=0.02), order_2
 
 
-def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_single):
+def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_single, monkeypatch):
     # From 10 km, the sun 4 deg below the horizon, a view 17 deg down toward it (nu = 0.97): order 3 alone from
     # the tables against a direct integration along the ray of the scattering density, computed at each of 40
     # points from the order-2 sky (read from the tables' order-2 stage by the evaluator, the ground lit by
@@ -419,15 +430,14 @@ def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_sing
                                             max_orders=2, **kw)
     s23, s23_mie, _, _ = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
                                              max_orders=3, **kw)
-    zero = np.zeros_like(standard_single.rayleigh)
-    order_2 = replace(standard_single, rayleigh=zero, mie=zero, multiple=s2.astype(np.float32),
-                      multiple_mie=s2_mie.astype(np.float32), irradiance=e1.astype(np.float32))
+    order_2 = replace(standard_single, multiple=s2.astype(np.float32), multiple_mie=s2_mie.astype(np.float32),
+                      irradiance=e1.astype(np.float32))
     order_3 = replace(order_2, multiple=(s23 - s2).astype(np.float32), multiple_mie=(s23_mie - s2_mie).astype(
         np.float32), irradiance=np.zeros_like(standard_single.irradiance))
     sun = np.array([np.cos(np.radians(-4.0)), 0.0, np.sin(np.radians(-4.0))])
     cam = np.array([0.0, 0.0, B + 1e4])
     view = np.array([np.sqrt(1 - 0.09), 0.0, -0.3])
-    table = sky_radiance(order_3, EARTH, cam[None], view[None], sun)[0][0]
+    table = multiple_only(monkeypatch, order_3, cam[None], view[None], sun)[0][0]
     b, c = cam @ view, cam @ cam - B * B
     d = -b - np.sqrt(b * b - c)                                   # to the ground
     x, w = np.polynomial.legendre.leggauss(40)
@@ -450,7 +460,7 @@ def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_sing
         dirs = ((st * np.cos(ph))[..., None] * east + (st * np.sin(ph))[..., None] * north
                 + ct[..., None] * up).reshape(-1, 3)
         dw = np.repeat(w_t, n_ph) * (2 * np.pi / n_ph)
-        sky, _ = sky_radiance(order_2, EARTH, np.tile(point, (len(dirs), 1)), dirs, sun)
+        sky, _ = multiple_only(monkeypatch, order_2, np.tile(point, (len(dirs), 1)), dirs, sun)
         cos = dirs @ view
         h = np.array([r - B])
         j = sum((phase * dw[:, None] * sky).sum(0) * np.asarray(species.scattering_m) * species.profile.density(h)[0]

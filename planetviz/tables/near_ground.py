@@ -69,8 +69,7 @@ def shadow_interval(r, mu, mu_s, nu, d, bottom):
     b_ = r * (mu - mu_s * nu)
     c_ = (r - bottom) * (r + bottom) - r * r * mu_s * mu_s
     disc = b_ * b_ - a_ * c_
-    q = -(b_ + np.copysign(np.sqrt(np.maximum(disc, 0.0)), b_))
-    q = np.where(q == 0.0, -1e-300, q)
+    q = np.where(disc > 0.0, -(b_ + np.copysign(np.sqrt(np.maximum(disc, 0.0)), b_)), 1.0)   # |q| >= sqrt(disc)
     t_a, t_b = q / a_, c_ / q
     lo = np.where(disc > 0.0, np.minimum(t_a, t_b), -b_ / a_)
     hi = np.where(disc > 0.0, np.maximum(t_a, t_b), -b_ / a_)
