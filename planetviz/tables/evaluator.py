@@ -7,6 +7,10 @@ For a camera x (moved to the top of the atmosphere when it is in space), view di
   S(x -> y) = S(x) - T(x, y) S(y), plus the ground itself:
   T(x, y) (a / pi) [T_sun(y) max(n . s, 0) + E_sky(y)]  (Lambertian, lit by the sun and the sky).
 
+Single scattering is read from the tables except for ground rays from cameras near the ground
+(tables/near_ground.py) and rays next to the horizon's direction (tables/horizon.py, blended into the tables'
+reading): there it is integrated along the ray with the tables' transmittances.
+
 ``tables`` is a 4D set (:class:`~planetviz.tables.precompute.Tables`) or a compact one
 (:class:`~planetviz.tables.compact.CompactTables`: the same formulas, in-scattering read without nu).
 Returns radiance (N, W) in 1/sr per unit solar irradiance and the transmittance along the view ray.

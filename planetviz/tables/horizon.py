@@ -5,9 +5,9 @@ Why. Next to the horizon the single scattering changes fastest with the camera's
 and its azimuth (a ray grazing the ground from high up crosses the whole atmosphere, and the sun's elevation and
 transmittance change along it), so interpolating the 4D tables linearly is least accurate there: the draft
 tables read the rays within 1e-2 (in mu) of the horizon's direction 1.3-2.0x as far off as the rest of the sky
-(2 m, 300 m, 1 km, 15-40 km; the seam test's HORIZON_SEAM, docs/stability.md), and every size that fixed it cost
-over draft's 1 s of precompute. In twilight the tables read these rays up to 30% off from 2 m and 74% from 1 km
-(the sun 1-5 deg down), where the twilight glow is.
+(2 m, 300 m, 1 km, 15-40 km; HORIZON_SEAM, docs/stability.md), and every size that fixed it cost over draft's
+1 s of precompute. In twilight (the sun 1-5 deg down) the tables read these rays 28-960% off (draft) and 4-41%
+(standard), where the twilight glow is.
 
 How. Rays within ``HORIZON_BAND[1]`` of the horizon's direction mu_h = -sqrt(1 - (R_b / r)^2) integrate their
 single scattering as the precompute does (precompute.single_scattering_integral, with the tables'
@@ -15,10 +15,11 @@ transmittances), on the two lit parts of the ray around the planet's shadow (nea
 ``HORIZON_SAMPLES`` Gauss-Legendre nodes on each side of each part's closest approach (precompute.ray_nodes): 32
 nodes at most. The result replaces the tables' reading within ``HORIZON_BAND[0]`` and blends into it by a
 smoothstep up to ``HORIZON_BAND[1]`` (:func:`horizon_share`), so the radiance stays continuous where the band
-ends. Measured against the reference quadrature (Earth, the seam test's rays, 2 m to 50 km): next to the horizon
-within 0.4-1.2% (draft; 1.5-14.9% from the tables) and 0.05-1.2% (standard). With 6 nodes per side instead of 8
-the rays from 30-50 km read 2-10% off: the sunlight along them fades over a few nodes' spacing where the sun sets
-for the points far along the ray. Ground rays from below near_ground.NEAR_GROUND_ROWS keep near_ground.py's rule.
+ends. Against the reference quadrature (Earth, the seam test's rays from 2 m to 50 km, the sun 5-60 deg up): next
+to the horizon within 0.12-1.02% (draft) and 0.03-0.96% (standard); in twilight at most 2.55% and 0.69%
+(tests/test_stability.py). With 6 nodes per side the rays from 30-50 km read 2-10% off (the sunlight along them
+fades within a few nodes' spacing where the sun sets for the points far along the ray), with 10 0.42% at 50 km.
+Ground rays from below near_ground.NEAR_GROUND_ROWS keep near_ground.py's rule.
 """
 from __future__ import annotations
 

@@ -17,10 +17,10 @@ How. These rays are short (at most the distance to the horizon from row 5: 290 k
 integrand smooth except where the ray enters the planet's shadow (the sun below the local horizon of the points
 further along): there the sunlight steps to 0, which Gauss-Legendre nodes at fixed places resolve poorly (up to 48%
 off in twilight from 300 m with 8 nodes over the whole ray). :func:`shadow_interval` finds that part of the ray in
-closed form, and ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes go to each lit part before and after it (to each half
-of the ray where there is none), with the tables' transmittances: within 0.15% of the reference quadrature in
-daylight (standard) and at most 5% in twilight (draft, 300 m up, the sun 0.5 deg down; tests/test_stability.py),
-for 8 view and 8 sun transmittance lookups per ray, as before.
+closed form, and ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes go to each lit part before and after it (where there
+is none, to each side of the point where one would appear first), with the tables' transmittances: within 0.15%
+of the reference quadrature in daylight (standard) and at most 5% in twilight (draft, 300 m up, the sun 0.5 deg
+down; tests/test_stability.py), for 8 view and 8 sun transmittance lookups per ray, as before.
 
 Switching at a row is continuous: there the tables hold their own quadrature of the same integral.
 """
