@@ -83,23 +83,32 @@ float altitude_along_ray(float a, float mu, float d) {
 // tau between (a, mu) and the point at distance d along the ray, from readings of rays that point up only (the
 // NumPy twin's docstring says why): on the ray's descending part (d <= -r mu) the reversed ray, tau(a_d, -mu_d) -
 // tau(a, -mu); past its lowest point a_l, tau(a_l, 0) - tau(a, -mu) to it plus tau(a_l, 0) - tau(a_d, mu_d) from
-// it; rays up, tau(a, mu) - tau(a_d, mu_d).
-vec4 get_optical_depth(float a, float mu, float d, int g) {
-    float r = radius_of(a);
+// it; rays up, tau(a, mu) - tau(a_d, mu_d). The readings at the camera and at the lowest point depend on the ray
+// only (ray_readings, for points up to d_end along it: [0] the camera's, [1] the lowest point's where d_end is past
+// it), so that a quadrature along one ray takes them once.
+mat2x4 ray_readings(float a, float mu, float d_end, int g) {
+    if (mu >= 0.0) return mat2x4(get_optical_depth_to_top_atmosphere_boundary(a, mu, g), vec4(0.0));
+    vec4 camera = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
+    float d_l = -radius_of(a) * mu;
+    if (d_end <= d_l) return mat2x4(camera, vec4(0.0));
+    return mat2x4(camera, get_optical_depth_to_top_atmosphere_boundary(altitude_along_ray(a, mu, d_l), 0.0, g));
+}
+
+vec4 get_optical_depth_from_readings(float a, float mu, float d, mat2x4 readings, int g) {
     float a_d = altitude_along_ray(a, mu, d);
-    float mu_d = clamp_cosine((r * mu + d) / radius_of(a_d));
+    float mu_d = clamp_cosine((radius_of(a) * mu + d) / radius_of(a_d));
     if (mu >= 0.0) {
-        return max(get_optical_depth_to_top_atmosphere_boundary(a, mu, g)
-                   - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0);
+        return max(readings[0] - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0);
     }
-    vec4 tau_camera = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
-    if (d <= -r * mu) {
-        return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g) - tau_camera, 0.0);
+    if (d <= -radius_of(a) * mu) {
+        return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g) - readings[0], 0.0);
     }
-    float a_l = altitude_along_ray(a, mu, -r * mu);
-    vec4 tau_l = get_optical_depth_to_top_atmosphere_boundary(a_l, 0.0, g);
-    return max(tau_l - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0)
-        + max(tau_l - tau_camera, 0.0);
+    return max(readings[1] - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0)
+        + max(readings[1] - readings[0], 0.0);
+}
+
+vec4 get_optical_depth(float a, float mu, float d, int g) {
+    return get_optical_depth_from_readings(a, mu, d, ray_readings(a, mu, d, g), g);
 }
 
 vec4 get_transmittance(float a, float mu, float d, int g) {
@@ -262,13 +271,13 @@ const float NEAR_GROUND_WEIGHTS[4] = float[4](0.173927423, 0.326072577, 0.326072
 
 bool near_ground_rays(float a, bool intersects_ground) { return intersects_ground && a < near_ground_altitude; }
 
-// Density of the Rayleigh (k = 0) or Mie (k = 1) component at altitude a [m], linear between density_texture's
+// Densities of the Rayleigh (x) and the Mie (y) component at altitude a [m], linear between density_texture's
 // texels (at altitudes (i / (n - 1))^2 (R_t - R_b)).
-float density_at(int k, float a) {
+vec2 density_at(float a) {
     int n = textureSize(density_texture, 0).x;
     float x = sqrt(clamp(a / (top_radius - bottom_radius), 0.0, 1.0)) * float(n - 1);
     int i = min(int(x), n - 2);
-    return mix(texelFetch(density_texture, ivec2(i, 0), 0)[k], texelFetch(density_texture, ivec2(i + 1, 0), 0)[k],
+    return mix(texelFetch(density_texture, ivec2(i, 0), 0).xy, texelFetch(density_texture, ivec2(i + 1, 0), 0).xy,
                x - float(i));
 }
 
@@ -307,19 +316,18 @@ void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int 
     s_m = vec4(0.0);
     if (d <= 0.0) return;                                    // a ray from the ground (the ground point's reading)
     vec2 shadow = shadow_interval(a, mu, mu_s, nu, d);
-    // get_transmittance(a, mu, t, g) of each node, with the camera's reading taken once.
-    vec4 tau_camera = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
+    mat2x4 readings = ray_readings(a, mu, d, g);                // get_transmittance's, taken once per ray
     for (int i = 0; i < 8; ++i) {
         float start = i < 4 ? 0.0 : shadow.y;
         float span = i < 4 ? shadow.x : d - shadow.y;
         float t = start + span * NEAR_GROUND_NODES[i % 4];
         float a_t = altitude_along_ray(a, mu, t);
-        float mu_t = clamp_cosine((r * mu + t) / radius_of(a_t));
         float mu_s_t = clamp_cosine((r * mu_s + t * nu) / radius_of(a_t));
-        vec4 view = exp(-max(get_optical_depth_to_top_atmosphere_boundary(a_t, -mu_t, g) - tau_camera, 0.0));
+        vec4 view = exp(-get_optical_depth_from_readings(a, mu, t, readings, g));
         vec4 path = (span * NEAR_GROUND_WEIGHTS[i % 4]) * view * get_transmittance_to_sun(a_t, mu_s_t, g);
-        s_r += path * density_at(0, a_t);
-        s_m += path * density_at(1, a_t);
+        vec2 density = density_at(a_t);
+        s_r += path * density.x;
+        s_m += path * density.y;
     }
     s_r *= rayleigh_scattering[g];
     s_m *= mie_scattering[g];
@@ -372,6 +380,7 @@ void horizon_single_scattering(float a, float mu, float mu_s, float nu, bool int
                                 : distance_to_top_atmosphere_boundary(a, mu);
     float r = radius_of(a);
     vec2 shadow = shadow_interval(a, mu, mu_s, nu, d);
+    mat2x4 readings = ray_readings(a, mu, d, g);                // get_transmittance's, taken once per ray
     s_r = vec4(0.0);
     s_m = vec4(0.0);
     for (int k = 0; k < 4 * HORIZON_SAMPLES; ++k) {
@@ -379,9 +388,11 @@ void horizon_single_scattering(float a, float mu, float mu_s, float nu, bool int
         vec2 node = ray_node(a, mu, lit_before ? 0.0 : shadow.y, lit_before ? shadow.x : d, k % (2 * HORIZON_SAMPLES));
         float a_t = altitude_along_ray(a, mu, node.x);
         float mu_s_t = clamp_cosine((r * mu_s + node.x * nu) / radius_of(a_t));
-        vec4 path = node.y * get_transmittance(a, mu, node.x, g) * get_transmittance_to_sun(a_t, mu_s_t, g);
-        s_r += path * density_at(0, a_t);
-        s_m += path * density_at(1, a_t);
+        vec4 view = exp(-get_optical_depth_from_readings(a, mu, node.x, readings, g));
+        vec4 path = node.y * view * get_transmittance_to_sun(a_t, mu_s_t, g);
+        vec2 density = density_at(a_t);
+        s_r += path * density.x;
+        s_m += path * density.y;
     }
     s_r *= rayleigh_scattering[g];
     s_m *= mie_scattering[g];
