@@ -80,8 +80,9 @@ float altitude_along_ray(float a, float mu, float d) {
     return min(c_d / (sqrt(c_d + bottom_radius * bottom_radius) + bottom_radius), top_radius - bottom_radius);
 }
 
-// tau between (a, mu) and the point at distance d along the ray, from readings of rays that point up only (the
-// NumPy twin's docstring says why): on the ray's descending part (d <= -r mu) the reversed ray, tau(a_d, -mu_d) -
+// tau between (a, mu) and the point at distance d along the ray: NumPy's get_optical_depth with all its branches,
+// from readings of rays that point up only (its docstring says why), for the quadratures along whole rays below:
+// on the ray's descending part (d <= -r mu) the reversed ray, tau(a_d, -mu_d) -
 // tau(a, -mu); past its lowest point a_l, tau(a_l, 0) - tau(a, -mu) to it plus tau(a_l, 0) - tau(a_d, mu_d) from
 // it; rays up, tau(a, mu) - tau(a_d, mu_d). The readings at the camera and at the lowest point depend on the ray
 // only (ray_readings, for points up to d_end along it: [0] the camera's, [1] the lowest point's where d_end is past
@@ -107,8 +108,13 @@ vec4 get_optical_depth_from_readings(float a, float mu, float d, mat2x4 readings
         + max(readings[1] - readings[0], 0.0);
 }
 
+// The same on the ray's descending part only (d <= -r mu), where every segment of the ray set-up ends (on the
+// ground or before it); the branches it leaves out slowed every pixel on llvmpipe by 18% (720p, from orbit).
 vec4 get_optical_depth(float a, float mu, float d, int g) {
-    return get_optical_depth_from_readings(a, mu, d, ray_readings(a, mu, d, g), g);
+    float a_d = altitude_along_ray(a, mu, d);
+    float mu_d = clamp_cosine((radius_of(a) * mu + d) / radius_of(a_d));
+    return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g)
+               - get_optical_depth_to_top_atmosphere_boundary(a, -mu, g), 0.0);
 }
 
 vec4 get_transmittance(float a, float mu, float d, int g) {
