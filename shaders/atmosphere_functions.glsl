@@ -314,10 +314,23 @@ vec2 shadow_interval(float a, float mu, float mu_s, float nu, float d) {
     return p_lo < 0.0 ? vec2(lo, t_p) : vec2(t_p, hi);
 }
 
+// One node's term of precompute.py's single_scattering_integral, for both quadratures along rays: w T(x, x_t)
+// T_sun(x_t) times the Rayleigh and the Mie density at x_t = x + t v, added to s_r and s_m (the callers multiply by
+// the scattering coefficients once). readings: ray_readings of the ray.
+void add_single_scattering_node(float a, float mu, float mu_s, float nu, float t, float w, mat2x4 readings, int g,
+                                inout vec4 s_r, inout vec4 s_m) {
+    float a_t = altitude_along_ray(a, mu, t);
+    float mu_s_t = clamp_cosine((radius_of(a) * mu_s + t * nu) / radius_of(a_t));
+    vec4 view = exp(-get_optical_depth_from_readings(a, mu, t, readings, g));
+    vec4 path = w * view * get_transmittance_to_sun(a_t, mu_s_t, g);
+    vec2 density = density_at(a_t);
+    s_r += path * density.x;
+    s_m += path * density.y;
+}
+
 // (S_R,1, S_M,1) of group g without phase, per unit solar irradiance, for a ground ray at (a, mu, mu_s, nu).
 void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int g, out vec4 s_r, out vec4 s_m) {
     float d = distance_to_bottom_atmosphere_boundary(a, mu);
-    float r = radius_of(a);
     s_r = vec4(0.0);
     s_m = vec4(0.0);
     if (d <= 0.0) return;                                    // a ray from the ground (the ground point's reading)
@@ -326,14 +339,8 @@ void near_ground_single_scattering(float a, float mu, float mu_s, float nu, int 
     for (int i = 0; i < 8; ++i) {
         float start = i < 4 ? 0.0 : shadow.y;
         float span = i < 4 ? shadow.x : d - shadow.y;
-        float t = start + span * NEAR_GROUND_NODES[i % 4];
-        float a_t = altitude_along_ray(a, mu, t);
-        float mu_s_t = clamp_cosine((r * mu_s + t * nu) / radius_of(a_t));
-        vec4 view = exp(-get_optical_depth_from_readings(a, mu, t, readings, g));
-        vec4 path = (span * NEAR_GROUND_WEIGHTS[i % 4]) * view * get_transmittance_to_sun(a_t, mu_s_t, g);
-        vec2 density = density_at(a_t);
-        s_r += path * density.x;
-        s_m += path * density.y;
+        add_single_scattering_node(a, mu, mu_s, nu, start + span * NEAR_GROUND_NODES[i % 4],
+                                   span * NEAR_GROUND_WEIGHTS[i % 4], readings, g, s_r, s_m);
     }
     s_r *= rayleigh_scattering[g];
     s_m *= mie_scattering[g];
@@ -384,7 +391,6 @@ void horizon_single_scattering(float a, float mu, float mu_s, float nu, bool int
                                out vec4 s_r, out vec4 s_m) {
     float d = intersects_ground ? distance_to_bottom_atmosphere_boundary(a, mu)
                                 : distance_to_top_atmosphere_boundary(a, mu);
-    float r = radius_of(a);
     vec2 shadow = shadow_interval(a, mu, mu_s, nu, d);
     mat2x4 readings = ray_readings(a, mu, d, g);                // get_transmittance's, taken once per ray
     s_r = vec4(0.0);
@@ -392,13 +398,7 @@ void horizon_single_scattering(float a, float mu, float mu_s, float nu, bool int
     for (int k = 0; k < 4 * HORIZON_SAMPLES; ++k) {
         bool lit_before = k < 2 * HORIZON_SAMPLES;
         vec2 node = ray_node(a, mu, lit_before ? 0.0 : shadow.y, lit_before ? shadow.x : d, k % (2 * HORIZON_SAMPLES));
-        float a_t = altitude_along_ray(a, mu, node.x);
-        float mu_s_t = clamp_cosine((r * mu_s + node.x * nu) / radius_of(a_t));
-        vec4 view = exp(-get_optical_depth_from_readings(a, mu, node.x, readings, g));
-        vec4 path = node.y * view * get_transmittance_to_sun(a_t, mu_s_t, g);
-        vec2 density = density_at(a_t);
-        s_r += path * density.x;
-        s_m += path * density.y;
+        add_single_scattering_node(a, mu, mu_s, nu, node.x, node.y, readings, g, s_r, s_m);
     }
     s_r *= rayleigh_scattering[g];
     s_m *= mie_scattering[g];
