@@ -301,14 +301,14 @@ def test_standard_tables_against_the_reference(preset):
     # in daylight. Bound: RMS relative error < 3%, where the reference's own standard error is ~1.5% (Earth
     # and the thick planet at 2048 paths; Mars at 8192: under its sharp forward lobes 2048 paths alone
     # scatter by 3.2% RMS, which perfect tables would fail); tables without multiple scattering miss 10-20%
-    # (Earth) or > 50% (the thick atmosphere) and fail. Measured, standard: Earth 1.46%; Mars 2.998% since the
-    # particles' lobe is renormalised in the irradiance integral (table format 15; 4.6% before, the views down
-    # 6-9% low at 440 nm, a strict xfail until then; 7.8% before table format 11): a thin margin, what is left
+    # (Earth) or > 50% (the thick atmosphere) and fail. Measured, standard: Earth 1.46%; Mars 2.947% since the
+    # particles' lobe is renormalised in the irradiance integral (table format 15, 2.998% then; 4.6% before, the
+    # views down 6-9% low at 440 nm, and this test failed; 7.8% before table format 11): a thin margin, what is left
     # is the zenith from the ground (-9% at 440 nm) and the horizontal view from 10 km (+7% at 550 nm); against
     # a 40960-path reference (noise 0.8%) 2.85%. The 10-bar CO2 planet 2.35% since table format 16 (its
     # scattering density iterated from itself on its own rows, and 16 r rows in its multiple-scattering table,
-    # precompute.sizes_for; 10.5% at format 15, 440 nm down to -25%: THICK_LOSES_ENERGY, a strict xfail until
-    # then; 4.0% with 8 rows).
+    # precompute.sizes_for; 10.5% at format 15, 440 nm down to -25%, THICK_LOSES_ENERGY, and this test failed;
+    # 4.0% with 8 rows).
     atm = load_atmosphere(preset)
     r = atm.bottom_radius_m
     cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
