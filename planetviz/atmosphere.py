@@ -133,7 +133,13 @@ class Atmosphere:
     def extinction(self, h, index=None):
         """beta_ext(h) [1/m], shape ``h.shape + (W,)``, or ``h.shape + (1,)`` for one wavelength index."""
         h = np.asarray(h, dtype=float)
-        total = np.zeros(h.shape + ((self.n_wavelengths,) if index is None else (1,)))
+        if index is not None:
+            one = np.zeros(h.shape)
+            for _, ext, profile in self.components():
+                if ext[index]:
+                    one += ext[index] * profile.density(h)
+            return one[..., None]
+        total = np.zeros(h.shape + (self.n_wavelengths,))
         for _, ext, profile in self.components():
             ext = ext if index is None else ext[[index]]
             if np.any(ext):

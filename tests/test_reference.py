@@ -95,7 +95,7 @@ def test_monte_carlo_single_scattering_matches_deterministic_quadrature():
     sun = np.array([r[2] for r in SINGLE_RAYS], float)
     sun /= np.linalg.norm(sun, axis=1, keepdims=True)
     scatter, ground = single_scattering(EARTH, cam, view, sun)
-    res = solve(EARTH, cam, view, sun, samples=4096, seed=7, max_order=1)
+    res = solve(EARTH, cam, view, sun, samples=4096, seed=7, max_order=1, single="paths")
     det = scatter + ground
     # 4.5 standard errors: with 15 comparisons, a correct solver fails this with probability ~1e-4.
     z = np.abs(res.radiance - det) / np.maximum(res.stderr, 1e-300)
@@ -142,7 +142,7 @@ def _outgoing_power_ratio(atm, rays, seed):
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
     t2 = np.cross(n, t1)
     view = -(ct[:, None] * n + (st * np.cos(2 * np.pi * u2))[:, None] * t1 + (st * np.sin(2 * np.pi * u2))[:, None] * t2)
-    res = solve(atm, n * rt, view, [0.0, 0.0, 1.0], samples=1, seed=seed)
+    res = solve(atm, n * rt, view, [0.0, 0.0, 1.0], samples=1, seed=seed, single="paths")
     est = 4 * np.pi * res.radiance[:, 0]          # L * 4 pi R^2 * pi / (pi R^2)
     # Direct beam through the annulus R_g < b < R_t, by quadrature over the impact parameter b.
     b = np.linspace(atm.bottom_radius_m, atm.top_radius_m, 4001)[1:]

@@ -121,7 +121,7 @@ def reference_rays(n_examples):
             # 0); 1e-6 rad up, its rays clear the ground by metres.
             sun = sun + 1e-6 * up
         sun = sun / np.linalg.norm(sun)
-        mc = solve(EARTH, [r * up], [view], sun, samples=1024, seed=1, max_order=1)
+        mc = solve(EARTH, [r * up], [view], sun, samples=1024, seed=1, max_order=1, single="paths")
         scatter, ground = single_scattering(EARTH, [r * up], [view], sun)
         exact = scatter + ground
         _check(mc.radiance, mc.transmittance)

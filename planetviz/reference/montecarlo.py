@@ -1,45 +1,67 @@
-"""Unbiased Monte Carlo solution of the full radiative transfer problem (paper Eqs. 6-8).
+"""The reference solution of the full radiative transfer problem (paper Eqs. 6-8), and its standard error.
 
-Problem: spherical shell between ``bottom_radius_m`` and ``top_radius_m``; all orders of
-scattering by the Rayleigh and Mie components; absorption by every component; a Lambertian
-ground of albedo ``ground_albedo`` lit by the attenuated sun and by the sky; the sun a
-directional light of irradiance 1 at the top of the atmosphere. The sun disc itself (the
-unscattered direct beam, L_0) is excluded. Result: radiance in 1/sr per unit solar irradiance.
+Problem: spherical shell between ``bottom_radius_m`` and ``top_radius_m``; all orders of scattering by the
+Rayleigh and Mie components; absorption by every component; a Lambertian ground of albedo
+``ground_albedo`` lit by the attenuated sun and by the sky; the sun a directional light of irradiance 1 at
+the top of the atmosphere. The sun disc itself (the unscattered direct beam, L_0) is excluded. Result:
+radiance in 1/sr per unit solar irradiance.
 
-Method (per wavelength, vectorised over paths): paths start at the camera (moved to the
-entry point when it is in space) and are traced backward.
+Method. L = L_1 + L_{>=2}:
 
-* Free flights by forced collisions: along each straight segment (to the ground or to space)
-  the optical depth tau(t) is tabulated at 65 nodes clustered at the point of closest approach,
-  each interval integrated by 4-point Gauss-Legendre (relative error < 5e-5 where the ozone
-  tent's kinks cross a segment, 1e-9 elsewhere; tested against :func:`optical_depth`), linear in t within an interval. A collision is forced inside the
-  segment with probability 1 when the segment leaves to space (weight 1 - T_segment) and
-  max(1 - T, 1/2) when it ends on the ground (weights (1 - T) / p and T / (1 - p)), and its
-  distance is drawn from the tabulated tau, so thin atmospheres are sampled as well as thick
-  ones.
-* At a real collision the path weight is multiplied by the single-scattering albedo
-  beta_scat / beta_ext (absorption as weighting, not termination); the next-event estimate
-  adds weight * P(nu) * T_sun, with P the mixture of the Rayleigh and Mie phase functions
-  weighted by their local scattering coefficients; the new direction is sampled exactly from
-  that mixture (so the weight needs no phase correction).
-* At the ground the next-event estimate adds weight * (a / pi) max(0, n . s) T_sun; the path
-  continues with a cosine-weighted direction and weight * a.
-* T_sun by deterministic quadrature (:func:`optical_depth`, converged to ~1e-9), 0 in the
-  planet's shadow.
-* Russian roulette after the third event keeps the estimator unbiased and finite.
+* L_1 (single scattering and the directly lit ground seen along the view ray) by deterministic quadrature
+  (:func:`~planetviz.reference.single.single_scattering`, relative error < 1e-6).
+* L_{>=2} by backward Monte Carlo path tracing, one wavelength per path, vectorised over paths:
 
-``max_order`` keeps only light scattered or reflected at most that many times (1: single
-scattering plus the directly lit ground).
+  - **Free flights**: along each straight segment (to the ground or to space) the optical depth is
+    tabulated at 65 nodes (:func:`segment_optical_depth`) and a collision drawn from the piecewise-linear
+    tau~ through them (forced: with probability 1 when the segment leaves to space, max(1 - T, 1/2) when it
+    ends on the ground). The weight is the integrand over the density actually sampled,
+    beta_scat(t) exp(-tau(t)) / (sigma~(t) exp(-tau~(t))), with tau(t) integrated exactly to the
+    sampled point (Gauss-Legendre from the node before it), so the estimator is unbiased for any
+    tabulation; only the optical depth's quadrature error (< 5e-5 relative) remains.
+  - **Next-event estimation along the next segment**: at a path vertex x with new direction d, the light
+    the next vertex scatters toward x straight from the sun is estimated before that vertex is sampled:
+    one collision drawn only from the sun-lit part of the segment (the planet's shadow is an interval of
+    the line, :mod:`planetviz.reference.shadow`), weighted by the lit part's collision probability, plus
+    the directly lit ground at the segment's end, exactly. Light from vertices in the shadow, which is
+    zero, is never sampled, so twilight and the night side cost no more paths than daylight.
+  - **Directions**: drawn from the local Rayleigh/Mie phase mixture around the previous direction (the
+    cosine law at the ground) with probability 1 - EPSILON, and with probability EPSILON from a guide pdf
+    around the sun (a Henyey-Greenstein lobe of g = GUIDE_SUN_G, half and half with the Mie phase function
+    where that has a forward lobe), weighted by phase / mixture pdf. The next event's P_M(d . s) over the
+    mixture pdf is then at most 2 / EPSILON, so a strong forward lobe (g up to 0.999) cannot give a rare
+    path a huge weight: the estimator has no heavy tail there.
+  - Absorption enters as a weight (the single-scattering albedo); Russian roulette after the third event,
+    against the path's weight after its first.
+
+Contributions of order ``max_order`` and below only; ``single="paths"`` estimates L_1 with the same paths
+too (the check of the path tracer against the quadrature). The standard error is that of the mean of
+independent paths; ``samples`` paths per ray and wavelength.
 """
 from __future__ import annotations
 
+import os
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+import multiprocessing
 
 import numpy as np
 
 from ..geometry import distance_to_ground, distance_to_top_exit
-from ..optics.phase import (PENNDORF_A, sample_henyey_greenstein, sample_rayleigh_like)
+from ..optics.phase import PENNDORF_A, henyey_greenstein, sample_henyey_greenstein, sample_rayleigh_like
 from .optical_depth import shell_segment, sun_transmittance, view_transmittance
+from .shadow import shadow_interval
+from .single import single_scattering
+
+#: Version of the estimator; stored with every reference result under benchmarks/data/.
+SOLVER_VERSION = "2"
+#: Probability of drawing a new direction from the guide pdf around the sun; the guide's own lobe; the g
+#: above which a Mie lobe (of any weight) joins the guide.
+EPSILON = 0.25
+GUIDE_SUN_G = 0.7
+GUIDE_MIN_G = 0.3
+#: Russian roulette starts after this many events.
+ROULETTE_ORDER = 3
 
 
 @dataclass
@@ -52,9 +74,13 @@ class ReferenceResult:
     samples: int
 
 
-def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0,
-          max_order: int | None = None, batch_paths: int = 262144) -> ReferenceResult:
-    """Monte Carlo radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
+def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, max_order: int | None = None,
+          single: str = "quadrature", workers: int | None = None, batch_paths: int = 65536) -> ReferenceResult:
+    """Reference radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
+
+    ``samples`` paths per ray and wavelength; ``seed`` fixes the result whatever ``workers`` is (default:
+    every core for runs of more than 2e5 paths, else 1). ``single``: ``"quadrature"`` (L_1 exact) or
+    ``"paths"`` (L_1 by the paths too, for checks).
 
     Example
     -------
@@ -66,28 +92,52 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0,
     >>> res.radiance.shape
     (1, 3)
     """
+    if single not in ("quadrature", "paths"):
+        raise ValueError(f"single: must be 'quadrature' or 'paths', got {single!r}")
     camera = np.atleast_2d(np.asarray(camera, dtype=float))
     view = np.atleast_2d(np.asarray(view_dir, dtype=float))
     view = view / np.linalg.norm(view, axis=-1, keepdims=True)
     sun = np.broadcast_to(np.asarray(sun_dir, dtype=float), camera.shape)
     sun = sun / np.linalg.norm(sun, axis=-1, keepdims=True)
     n = len(camera)
-    rng = np.random.default_rng(seed)
     mean = np.zeros((n, atm.n_wavelengths))
     err = np.zeros_like(mean)
-    per_batch = max(1, batch_paths // samples)
-    for w in range(atm.n_wavelengths):
-        for lo in range(0, n, per_batch):
-            q = np.arange(lo, min(n, lo + per_batch))
-            rep = np.repeat(q, samples)
-            contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], rng, max_order)
-            contrib = contrib.reshape(len(q), samples)
-            mean[q, w] = contrib.mean(axis=1)
-            err[q, w] = contrib.std(axis=1, ddof=1) / np.sqrt(samples) if samples > 1 else np.inf
+    first = 1
+    if single == "quadrature":
+        scatter, ground = single_scattering(atm, camera, view, sun)
+        mean += scatter + ground
+        first = 2
+    limit = np.iinfo(np.int64).max if max_order is None else max_order
+    if first <= limit and samples > 0:
+        per_batch = max(1, batch_paths // samples)
+        tasks = [(w, lo, min(n, lo + per_batch)) for w in range(atm.n_wavelengths) for lo in range(0, n, per_batch)]
+        args = [(atm, w, camera[lo:hi], view[lo:hi], sun[lo:hi], samples, (seed, w, lo), first, limit)
+                for w, lo, hi in tasks]
+        if workers is None:
+            workers = (os.cpu_count() or 1) if n * samples * atm.n_wavelengths > 200_000 else 1
+        if workers > 1 and len(tasks) > 1:
+            with ProcessPoolExecutor(min(workers, len(tasks)), mp_context=multiprocessing.get_context("fork")) as ex:
+                results = list(ex.map(_task, args))
+        else:
+            results = [_task(a) for a in args]
+        for (w, lo, hi), (m, e) in zip(tasks, results):
+            mean[lo:hi, w] += m
+            err[lo:hi, w] = e
     transmittance, _ = view_transmittance(atm, camera, view)
     return ReferenceResult(mean, err, transmittance, samples)
 
 
+def _task(args):
+    """(mean, standard error) of one block of rays at one wavelength."""
+    atm, w, camera, view, sun, samples, key, first, limit = args
+    rng = np.random.default_rng(np.random.SeedSequence(list(key)))
+    rep = np.repeat(np.arange(len(camera)), samples)
+    contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], rng, first, limit).reshape(len(camera), samples)
+    std = contrib.std(axis=1, ddof=1) / np.sqrt(samples) if samples > 1 else np.full(len(camera), np.inf)
+    return contrib.mean(axis=1), std
+
+
+# ------------------------------------------------------------------ directions
 def _onb_rotate(d, cos_theta, phi):
     """Directions at polar angle acos(cos_theta), azimuth phi around the unit vectors d."""
     x, y, z = d[:, 0], d[:, 1], d[:, 2]
@@ -102,6 +152,12 @@ def _onb_rotate(d, cos_theta, phi):
     return out / np.linalg.norm(out, axis=1, keepdims=True)
 
 
+def _sample_mie(atm, w, u, rng):
+    """cos(theta) drawn from the Mie double Henyey-Greenstein phase function at wavelength index w."""
+    lobe1 = rng.random(len(u)) < atm.mie.alpha[w]
+    return sample_henyey_greenstein(u, np.where(lobe1, atm.mie.g1[w], atm.mie.g2[w]))
+
+
 def _sample_phase(atm, w, b_r, b_m, rng):
     """cos(theta) between the old and new tracing directions, drawn from the local phase mixture."""
     m = len(b_r)
@@ -110,16 +166,84 @@ def _sample_phase(atm, w, b_r, b_m, rng):
     cos = np.empty(m)
     a = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
     cos[~use_mie] = sample_rayleigh_like(u[~use_mie], a)
-    k = int(use_mie.sum())
-    if k:
-        lobe1 = rng.random(k) < atm.mie.alpha[w]
-        g = np.where(lobe1, atm.mie.g1[w], atm.mie.g2[w])
-        cos[use_mie] = sample_henyey_greenstein(u[use_mie], g)
+    if np.any(use_mie):
+        cos[use_mie] = _sample_mie(atm, w, u[use_mie], rng)
     return cos
 
 
+def _has_lobe(atm, w) -> bool:
+    """Whether the Mie phase function at wavelength index w scatters and has a forward lobe (g > GUIDE_MIN_G)."""
+    if atm.mie.scattering_m[w] <= 0.0:
+        return False
+    lobes = [(atm.mie.g1[w], atm.mie.alpha[w]), (atm.mie.g2[w], 1.0 - atm.mie.alpha[w])]
+    return any(g > GUIDE_MIN_G and share > 0.0 for g, share in lobes)
+
+
+def _guide_sample(atm, w, sun, rng):
+    """Directions drawn from the guide pdf (:func:`_guide_pdf`)."""
+    m = len(sun)
+    wide = rng.random(m) < (0.5 if _has_lobe(atm, w) else 1.0)
+    cos = np.empty(m)
+    cos[wide] = sample_henyey_greenstein(rng.random(int(wide.sum())), GUIDE_SUN_G)
+    if np.any(~wide):
+        cos[~wide] = _sample_mie(atm, w, rng.random(int((~wide).sum())), rng)
+    return _onb_rotate(sun, cos, 2.0 * np.pi * rng.random(m))
+
+
+def _guide_pdf(atm, w, sun, d):
+    """The guide pdf [1/sr] of direction d: a Henyey-Greenstein lobe of g = GUIDE_SUN_G around the sun,
+    mixed half and half, where the Mie phase function has a forward lobe, with that phase function around
+    the sun (so that the next event's P_M(d . s) over the pdf stays bounded)."""
+    mu = np.clip(np.einsum("ij,ij->i", sun, d), -1.0, 1.0)
+    wide = henyey_greenstein(mu, GUIDE_SUN_G)
+    if not _has_lobe(atm, w):
+        return wide
+    return 0.5 * wide + 0.5 * atm.mie.phase_function(mu)[:, w]
+
+
+def _new_direction(atm, w, d, sun, b_r, b_m, rng):
+    """(new direction, phase / pdf weight) at a scattering vertex (b_r, b_m > 0 the local coefficients)."""
+    m = len(d)
+    guided = rng.random(m) < EPSILON
+    cos = np.empty(m)
+    free = ~guided
+    cos[free] = _sample_phase(atm, w, b_r[free], b_m[free], rng)
+    out = np.empty_like(d)
+    out[free] = _onb_rotate(d[free], cos[free], 2.0 * np.pi * rng.random(int(free.sum())))
+    if np.any(guided):
+        out[guided] = _guide_sample(atm, w, sun[guided], rng)
+    mu = np.clip(np.einsum("ij,ij->i", d, out), -1.0, 1.0)
+    phase = (b_r * atm.rayleigh.phase_function(mu) + b_m * atm.mie.phase_function(mu)[:, w]) / (b_r + b_m)
+    return out, phase / ((1.0 - EPSILON) * phase + EPSILON * _guide_pdf(atm, w, sun, out))
+
+
+def _ground_direction(atm, w, normal, sun, rng):
+    """(new direction, (cos / pi) / pdf weight) leaving a Lambertian ground."""
+    m = len(normal)
+    guided = rng.random(m) < EPSILON
+    out = np.empty_like(normal)
+    free = ~guided
+    out[free] = _onb_rotate(normal[free], np.sqrt(rng.random(int(free.sum()))), 2.0 * np.pi * rng.random(int(free.sum())))
+    if np.any(guided):
+        out[guided] = _guide_sample(atm, w, sun[guided], rng)
+    cos = np.maximum(np.einsum("ij,ij->i", normal, out), 0.0)
+    return out, (cos / np.pi) / ((1.0 - EPSILON) * cos / np.pi + EPSILON * _guide_pdf(atm, w, sun, out))
+
+
+# ------------------------------------------------------------------ optical depth along segments
 _GL4_X, _GL4_W = np.polynomial.legendre.leggauss(4)
+_GL8_X, _GL8_W = np.polynomial.legendre.leggauss(8)
 _SEGMENT_INTERVALS = 64
+
+
+def _extinction_along(atm, w, p, d, t):
+    """beta_ext [1/m] at p + t d (t shaped (P, ...)), from the distance to the centre without cancellation."""
+    b = np.einsum("ij,ij->i", p, d)
+    perp = p - b[:, None] * d
+    q = np.einsum("ij,ij->i", perp, perp)
+    shape = (len(p),) + (1,) * (t.ndim - 1)
+    r = np.sqrt((t + b.reshape(shape)) ** 2 + q.reshape(shape))
+    return atm.extinction(r - atm.bottom_radius_m, w)[..., 0]
 
 
 def segment_optical_depth(atm, w, p, d, length):
@@ -132,117 +256,168 @@ def segment_optical_depth(atm, w, p, d, length):
     s = np.linspace(0.0, 1.0, _SEGMENT_INTERVALS + 1)
     s = -np.sqrt(tc) + (np.sqrt(tc) + np.sqrt(length[:, None] - tc)) * s
     t = tc + np.sign(s) * s * s                                       # (P, K+1), dense at t_c
+    t[:, 0], t[:, -1] = 0.0, length
     a, b = t[:, :-1], t[:, 1:]
     mid, rad = 0.5 * (a + b), 0.5 * (b - a)
-    tq = mid[..., None] + rad[..., None] * _GL4_X                   # (P, K, 4)
-    pts = p[:, None, None, :] + tq[..., None] * d[:, None, None, :]
-    h = np.linalg.norm(pts, axis=-1) - atm.bottom_radius_m
-    sig = atm.extinction(h, w)[..., 0]
+    sig = _extinction_along(atm, w, p, d, mid[..., None] + rad[..., None] * _GL4_X)
     dtau = rad * (sig * _GL4_W).sum(-1)
     tau = np.concatenate([np.zeros((len(p), 1)), np.cumsum(dtau, axis=1)], axis=1)
     return t, tau
 
 
-def _sample_in_segment(t, tau, target):
-    """Distance where the piecewise-linear tau(t) reaches ``target`` (< tau[-1]), and sigma there."""
-    k = np.array([np.searchsorted(row, x, side="right") - 1 for row, x in zip(tau, target)])
-    k = np.clip(k, 0, t.shape[1] - 2)
+def _tau_between(atm, w, p, d, a, b):
+    """tau along p + t d from t = a to t = b (8-point Gauss-Legendre; b - a is within one table interval)."""
+    mid, rad = 0.5 * (a + b), 0.5 * (b - a)
+    sig = _extinction_along(atm, w, p, d, mid[:, None] + rad[:, None] * _GL8_X)
+    return rad * (sig * _GL8_W).sum(-1)
+
+
+def _locate(t_nodes, tau, t):
+    """(node index k before t, sigma~ = d tau~ / dt there, tau~(t)) of the piecewise-linear tau~ at t (P,)."""
+    k = np.clip((t_nodes <= t[:, None]).sum(axis=1) - 1, 0, t_nodes.shape[1] - 2)
     rows = np.arange(len(t))
-    dt = t[rows, k + 1] - t[rows, k]
+    dt = t_nodes[rows, k + 1] - t_nodes[rows, k]
     dtau = tau[rows, k + 1] - tau[rows, k]
     sigma = np.where(dt > 0, dtau / np.where(dt > 0, dt, 1.0), 0.0)
+    return k, sigma, tau[rows, k] + sigma * np.clip(t - t_nodes[rows, k], 0.0, dt)
+
+
+def _invert(t_nodes, tau, target):
+    """The distance t where tau~(t) = ``target`` (< tau[-1])."""
+    k = np.clip((tau <= target[:, None]).sum(axis=1) - 1, 0, t_nodes.shape[1] - 2)
+    rows = np.arange(len(target))
+    dt = t_nodes[rows, k + 1] - t_nodes[rows, k]
+    dtau = tau[rows, k + 1] - tau[rows, k]
     frac = np.where(dtau > 0, (target - tau[rows, k]) / np.where(dtau > 0, dtau, 1.0), 0.0)
-    return t[rows, k] + frac * dt, sigma
+    return t_nodes[rows, k] + np.clip(frac, 0.0, 1.0) * dt
 
 
-def _trace(atm, w, origin, direction, sun, rng, max_order):
-    """Contribution of one backward path per row, for wavelength index ``w``."""
-    p_count = len(origin)
-    radiance = np.zeros(p_count)
+def _point(atm, w, p, d, t_nodes, tau, t):
+    """At p + t d: (point, beta_R^scat, beta_M^scat, exact tau from p, sigma~, tau~).
+
+    The exact tau adds the Gauss-Legendre integral from the node before t to the tabulated tau there, so
+    a weight beta exp(-tau) / (density sampled from tau~) is unbiased whatever the tabulation's error.
+    """
+    k, sigma, tau_t = _locate(t_nodes, tau, t)
+    rows = np.arange(len(t))
+    tau_exact = tau[rows, k] + _tau_between(atm, w, p, d, t_nodes[rows, k], t)
+    x = p + t[:, None] * d
+    b_r, b_m = atm.scattering(np.linalg.norm(x, axis=1) - atm.bottom_radius_m)
+    return x, b_r[:, w], b_m[:, w], tau_exact, sigma, tau_t
+
+
+# ------------------------------------------------------------------ paths
+def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
+    """Light that the next vertex along p + t d (t in [0, length]) sends straight from the sun toward p.
+
+    One collision drawn from the sun-lit part of the segment (collision probability there m_lit) gives
+    m_lit beta_scat P(d . s) T_sun / (beta~ density) ; the directly lit ground at the end adds
+    T(segment) (a / pi) max(0, n . s) T_sun exactly.
+    """
+    out = np.zeros(len(p))
+    a, b = shadow_interval(p, d, sun, atm.bottom_radius_m)
+    shade = a < b
+    a = np.where(shade, np.clip(a, 0.0, length), length)
+    b = np.where(shade, np.clip(b, 0.0, length), length)
+    f_a = -np.expm1(-_locate(t_nodes, tau, a)[2])
+    f_b = -np.expm1(-_locate(t_nodes, tau, b)[2])
+    f_end = -np.expm1(-tau[:, -1])
+    m1, m_lit = f_a, f_a + (f_end - f_b)
+    ok = m_lit > 0.0
+    if np.any(ok):
+        u = rng.random(int(ok.sum())) * m_lit[ok]
+        f = np.where(u < m1[ok], u, f_b[ok] + (u - m1[ok]))
+        target = np.minimum(-np.log1p(-np.minimum(f, f_end[ok])), tau[ok, -1])
+        t = _invert(t_nodes[ok], tau[ok], target)
+        x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
+        nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
+        phase = b_r * atm.rayleigh.phase_function(nu) + b_m * atm.mie.phase_function(nu)[:, w]
+        t_sun = sun_transmittance(atm, x, sun[ok], index=w)[:, 0]
+        density = np.where(sigma > 0.0, sigma * np.exp(-tau_t), np.inf)      # of tau~, times m_lit
+        out[ok] = m_lit[ok] * np.exp(-tau_exact) / density * phase * t_sun
+    albedo = float(atm.ground_albedo[w])
+    if albedo > 0.0 and np.any(ground):
+        g = np.nonzero(ground)[0]
+        xg = p[g] + length[g, None] * d[g]
+        normal = xg / np.linalg.norm(xg, axis=1, keepdims=True)
+        cos_s = np.einsum("ij,ij->i", normal, sun[g])
+        lit = cos_s > 0.0
+        if np.any(lit):
+            gl = g[lit]
+            t_sun = sun_transmittance(atm, normal[lit] * atm.bottom_radius_m, sun[gl], index=w)[:, 0]
+            out[gl] += np.exp(-tau[gl, -1]) * albedo / np.pi * cos_s[lit] * t_sun
+    return out
+
+
+def _trace(atm, w, origin, direction, sun, rng, first, limit):
+    """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w."""
+    count = len(origin)
+    radiance = np.zeros(count)
     start, end = shell_segment(origin, direction, atm.top_radius_m)
     pos = origin + start[:, None] * direction
     d = direction.copy()
-    weight = np.ones(p_count)
-    order = np.zeros(p_count, dtype=np.int64)
+    weight = np.ones(count)
+    weight_first = np.ones(count)
+    order = np.zeros(count, dtype=np.int64)
     idx = np.nonzero(end > start)[0]
     albedo = float(atm.ground_albedo[w])
-    r_bottom, r_top = atm.bottom_radius_m, atm.top_radius_m
-    limit = np.iinfo(np.int64).max if max_order is None else max_order
     while idx.size:
-        p, dd = pos[idx], d[idx]
-        t_ground = distance_to_ground(p, dd, r_bottom)
-        t_top = distance_to_top_exit(p, dd, r_top)
+        p, dd, s = pos[idx], d[idx], sun[idx]
+        t_ground = distance_to_ground(p, dd, atm.bottom_radius_m)
+        t_top = distance_to_top_exit(p, dd, atm.top_radius_m)
         ground = np.isfinite(t_ground) & (t_ground <= t_top)
         length = np.where(ground, t_ground, t_top)
-        nodes, tau = segment_optical_depth(atm, w, p, dd, length)
-        trans = np.exp(-tau[:, -1])
-        absorbed = 1.0 - trans
-        p_collide = np.where(ground, np.maximum(absorbed, 0.5), 1.0)
-        p_collide = np.where(absorbed > 0.0, p_collide, 0.0)
-        collide = rng.random(idx.size) < p_collide
-        alive = np.ones(idx.size, dtype=bool)
+        t_nodes, tau = segment_optical_depth(atm, w, p, dd, length)
 
-        # ---- forced collision inside the segment
+        # ---- light from the sun via the next vertex
+        nee = (order[idx] + 1 >= first) & (order[idx] + 1 <= limit)
+        if np.any(nee):
+            k = np.nonzero(nee)[0]
+            radiance[idx[k]] += weight[idx[k]] * _next_event(atm, w, p[k], dd[k], s[k], length[k], ground[k],
+                                                             t_nodes[k], tau[k], rng)
+        # ---- the next vertex, for the orders after it
+        alive = order[idx] + 2 <= limit
+        trans = np.exp(-tau[:, -1])
+        absorbed = -np.expm1(-tau[:, -1])
+        p_collide = np.where(absorbed > 0.0, np.where(ground, np.maximum(absorbed, 0.5), 1.0), 0.0)
+        collide = alive & (rng.random(idx.size) < p_collide)
         if np.any(collide):
             ci = np.nonzero(collide)[0]
             g = idx[ci]
-            target = -np.log1p(-rng.random(ci.size) * absorbed[ci])
-            t, sig_tilde = _sample_in_segment(nodes[ci], tau[ci], target)
-            x = p[ci] + t[:, None] * dd[ci]
+            t = _invert(t_nodes[ci], tau[ci], -np.log1p(-rng.random(ci.size) * absorbed[ci]))
+            x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ci], dd[ci], t_nodes[ci], tau[ci], t)
+            density = np.where(sigma > 0.0, sigma * np.exp(-tau_t) / absorbed[ci], np.inf)
             pos[g] = x
-            h = np.linalg.norm(x, axis=1) - r_bottom
-            sig_t = atm.extinction(h, w)[:, 0]
-            b_r, b_m = atm.scattering(h)
-            b_r, b_m = b_r[:, w], b_m[:, w]
-            b_s = b_r + b_m
-            ratio = np.where(sig_tilde > 0, sig_t / np.where(sig_tilde > 0, sig_tilde, 1.0), 0.0)
-            weight[g] *= absorbed[ci] / p_collide[ci] * ratio * np.where(sig_t > 0, b_s / np.where(sig_t > 0, sig_t, 1.0), 0.0)
+            weight[g] *= (b_r + b_m) * np.exp(-tau_exact) / (p_collide[ci] * density)
             order[g] += 1
-            scat = b_s > 0.0
-            contrib = scat & (order[g] <= limit)
-            if np.any(contrib):
-                gc = g[contrib]
-                nu = np.einsum("ij,ij->i", d[gc], sun[gc])
-                phase = (b_r[contrib] * atm.rayleigh.phase_function(nu)
-                         + b_m[contrib] * atm.mie.phase_function(nu)[:, w]) / b_s[contrib]
-                t_sun = sun_transmittance(atm, pos[gc], sun[gc], index=w)[:, 0]
-                radiance[gc] += weight[gc] * phase * t_sun
+            scat = (b_r + b_m) > 0.0
             weight[g[~scat]] = 0.0
             if np.any(scat):
                 gs = g[scat]
-                cos = _sample_phase(atm, w, b_r[scat], b_m[scat], rng)
-                d[gs] = _onb_rotate(d[gs], cos, 2.0 * np.pi * rng.random(gs.size))
+                d[gs], ratio = _new_direction(atm, w, d[gs], sun[gs], b_r[scat], b_m[scat], rng)
+                weight[gs] *= ratio
+        hit = alive & ~collide & ground
+        alive &= collide | hit
+        if np.any(hit):
+            gi = np.nonzero(hit)[0]
+            g = idx[gi]
+            x = p[gi] + t_ground[gi, None] * dd[gi]
+            normal = x / np.linalg.norm(x, axis=1, keepdims=True)
+            pos[g] = normal * atm.bottom_radius_m
+            d[g], ratio = _ground_direction(atm, w, normal, sun[g], rng)
+            weight[g] *= trans[gi] / (1.0 - p_collide[gi]) * albedo * ratio
+            order[g] += 1
+        first_event = alive & (order[idx] == 1)
+        weight_first[idx[first_event]] = weight[idx[first_event]]
 
-        # ---- no collision: the ground reflects, the top lets the path escape
-        bi = np.nonzero(~collide)[0]
-        if bi.size:
-            alive[bi[~ground[bi]]] = False
-            gi = bi[ground[bi]]
-            if gi.size:
-                g = idx[gi]
-                x = p[gi] + t_ground[gi, None] * dd[gi]
-                normal = x / np.linalg.norm(x, axis=1, keepdims=True)
-                pos[g] = normal * r_bottom
-                weight[g] *= trans[gi] / (1.0 - p_collide[gi])
-                order[g] += 1
-                cos_s = np.maximum(np.einsum("ij,ij->i", normal, sun[g]), 0.0)
-                contrib = (order[g] <= limit) & (cos_s > 0.0) & (albedo > 0.0)
-                if np.any(contrib):
-                    gc = g[contrib]
-                    t_sun = sun_transmittance(atm, pos[gc], sun[gc], index=w)[:, 0]
-                    radiance[gc] += weight[gc] * albedo / np.pi * cos_s[contrib] * t_sun
-                weight[g] *= albedo
-                u = rng.random(g.size)
-                d[g] = _onb_rotate(normal, np.sqrt(u), 2.0 * np.pi * rng.random(g.size))
-
-        # ---- termination: order limit, zero weight, Russian roulette past the third event
-        gidx = idx
-        alive &= (order[gidx] < limit) & (weight[gidx] > 0.0)
-        rr = alive & (order[gidx] >= 3)
+        # ---- termination: zero weight, Russian roulette past ROULETTE_ORDER events
+        alive &= weight[idx] > 0.0
+        rr = alive & (order[idx] >= ROULETTE_ORDER)
         if np.any(rr):
-            q = np.clip(weight[gidx[rr]], 0.05, 1.0)
+            g = idx[rr]
+            q = np.clip(weight[g] / weight_first[g], 0.05, 1.0)
             survive = rng.random(q.size) < q
-            weight[gidx[rr]] /= q
+            weight[g] /= q
             alive[np.nonzero(rr)[0][~survive]] = False
         idx = idx[alive]
     return radiance

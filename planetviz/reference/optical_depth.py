@@ -38,16 +38,18 @@ def optical_depth(atm, origin, direction, length, panels: int = 8, index=None):
     end = np.minimum(np.asarray(length, dtype=float), end)
     o = o + start[..., None] * d
     length = np.maximum(end - start, 0.0)
-    tc = np.clip(-np.einsum("...i,...i->...", o, d), 0.0, length)
+    b = np.einsum("...i,...i->...", o, d)
+    tc = np.clip(-b, 0.0, length)
+    # |o + t d|^2 = (t + b)^2 + q, q = |o|^2 - b^2 taken from the perpendicular part (no cancellation).
+    perp = o - b[..., None] * d
+    q = np.einsum("...i,...i->...", perp, perp)
     u, w = _nodes(panels)
     tau = np.zeros(o.shape[:-1] + ((atm.n_wavelengths,) if index is None else (1,)))
     # Part 1: t from tc down to 0; part 2: t from tc up to length.
-    for span in (tc, length - tc):
-        sign = -1.0 if span is tc else 1.0
+    for sign, span in ((-1.0, tc), (1.0, length - tc)):
         t = tc[..., None] + sign * span[..., None] * u * u          # (..., K)
         jac = 2.0 * span[..., None] * u * w                          # dt = 2 span u du
-        pts = o[..., None, :] + t[..., None] * d[..., None, :]
-        h = np.linalg.norm(pts, axis=-1) - atm.bottom_radius_m
+        h = np.sqrt((t + b[..., None]) ** 2 + q[..., None]) - atm.bottom_radius_m
         tau += np.einsum("...k,...kw->...w", jac, atm.extinction(h, index))
     return tau
 
