@@ -8,8 +8,9 @@ Query set (fixed, 200 rays per atmosphere): cameras at 2 m (ground), 10 km (airc
 zenith <= 88 deg) and 0, -2, -4, -6 deg (twilight); per camera and sun, four views: one random, one 3 deg
 from the sun, one grazing the horizon (the limb from space) and one toward the ground (the planet from
 space). The reference is the Monte Carlo solver with ``--paths`` paths per ray (``--twilight-paths`` for the
-40% of rays in twilight), stored in benchmarks/data/reference-<preset>[-twilight]-<paths>.npz with the hash of
-the atmosphere's parameters (recomputed when absent or computed for other parameters).
+40% of rays in twilight), stored in benchmarks/data/reference-<preset>[-twilight]-<paths>.npz with the atmosphere's
+parameters (and their hash), the rays, the seed, the solver's version and the standard errors (recomputed
+when absent, or computed for other parameters or by another version of the solver).
 
 Errors are relative, over radiances above 1e-5 / sr. The reference is noisy (about 1% per ray), so the
 RMS error of the tables is estimated with the noise removed: sqrt(mean(e^2) - mean(s^2)), e the relative
@@ -26,6 +27,7 @@ import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference import solve
+from planetviz.reference.montecarlo import SOLVER_VERSION
 from planetviz.tables.cache import parameters_hash
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.precompute import QUALITY, precompute
@@ -73,16 +75,20 @@ def reference(name, atm, queries, paths, twilight_paths):
     out = []
     for label, sel, n in (("", slice(None), paths), ("-twilight", queries[3] < 2, twilight_paths)):
         path = DATA / f"reference-{name}{label}-{n}.npz"
-        stale = path.exists() and _atmosphere_of(path) != parameters_hash(atm.to_dict())
+        wanted = (parameters_hash(atm.to_dict()), SOLVER_VERSION)
+        stale = path.exists() and _computed_for(path) != wanted
         if stale:
-            print(f"({path.name} was computed for other parameters of {name}: recomputed)", flush=True)
+            print(f"({path.name} was computed for other parameters of {name} or another solver version: "
+                  "recomputed)", flush=True)
         if stale or not path.exists():
             t0 = time.perf_counter()
             res = solve(atm, *(q[sel] for q in queries[:3]), samples=n, seed=3)
             print(f"(reference for {name}{label}: {len(res.radiance)} rays x {n} paths in "
                   f"{time.perf_counter() - t0:.0f} s)", flush=True)
             DATA.mkdir(exist_ok=True)
-            np.savez(path, radiance=res.radiance, stderr=res.stderr, atmosphere=parameters_hash(atm.to_dict()))
+            np.savez(path, radiance=res.radiance, stderr=res.stderr, atmosphere=wanted[0], solver_version=wanted[1],
+                     parameters=atm.to_json(), camera_m=queries[0][sel], view_dir=queries[1][sel],
+                     sun_dir=queries[2][sel], paths=n, seed=3)
         with np.load(path) as f:
             out.append((sel, f["radiance"], f["stderr"]))
     radiance, stderr = out[0][1].copy(), out[0][2].copy()
@@ -90,10 +96,10 @@ def reference(name, atm, queries, paths, twilight_paths):
     return radiance, stderr
 
 
-def _atmosphere_of(path):
-    """The parameters' hash a stored reference was computed for (None for files from before it was stored)."""
+def _computed_for(path):
+    """(parameters' hash, solver version) a stored reference was computed for (None where not stored)."""
     with np.load(path) as f:
-        return str(f["atmosphere"]) if "atmosphere" in f else None
+        return tuple(str(f[key]) if key in f else None for key in ("atmosphere", "solver_version"))
 
 
 def errors(lut, ref, stderr, mask):

@@ -24,10 +24,9 @@ import sys
 import numpy as np
 
 from .presets import PRESETS, load_atmosphere
+from .reference.montecarlo import QUALITY_SAMPLES as REFERENCE_SAMPLES
 from .render_cli import add_render_options, run_render
 
-#: Monte Carlo paths per query of the reference solver at each quality.
-REFERENCE_SAMPLES = {"draft": 256, "standard": 2048, "high": 16384}
 
 
 class _Parser(argparse.ArgumentParser):

@@ -55,13 +55,18 @@ from .single import single_scattering
 
 #: Version of the estimator; stored with every reference result under benchmarks/data/.
 SOLVER_VERSION = "2"
+#: Paths per ray and wavelength at each quality of ``planetviz radiance --method reference`` and
+#: ``planetviz sky`` (median relative standard errors in docs/benchmarks.md).
+QUALITY_SAMPLES = {"draft": 512, "standard": 4096, "high": 32768}
 #: Probability of drawing a new direction from the guide pdf around the sun; the guide's own lobe; the g
 #: above which a Mie lobe (of any weight) joins the guide.
 EPSILON = 0.25
 GUIDE_SUN_G = 0.7
 GUIDE_MIN_G = 0.3
-#: Russian roulette starts after this many events.
+#: Russian roulette starts after this many events; a path survives with probability weight / (its weight
+#: after the first event), at least ROULETTE_MIN (so a survivor's weight grows at most 1 / ROULETTE_MIN-fold).
 ROULETTE_ORDER = 3
+ROULETTE_MIN = 0.2
 
 
 @dataclass
@@ -79,7 +84,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
     """Reference radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
 
     ``samples`` paths per ray and wavelength; ``seed`` fixes the result whatever ``workers`` is (default:
-    every core for runs of more than 2e5 paths, else 1). ``single``: ``"quadrature"`` (L_1 exact) or
+    every core for runs of more than 2e4 paths, else 1). ``single``: ``"quadrature"`` (L_1 exact) or
     ``"paths"`` (L_1 by the paths too, for checks).
 
     Example
@@ -114,7 +119,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
         args = [(atm, w, camera[lo:hi], view[lo:hi], sun[lo:hi], samples, (seed, w, lo), first, limit)
                 for w, lo, hi in tasks]
         if workers is None:
-            workers = (os.cpu_count() or 1) if n * samples * atm.n_wavelengths > 200_000 else 1
+            workers = (os.cpu_count() or 1) if n * samples * atm.n_wavelengths > 20_000 else 1
         if workers > 1 and len(tasks) > 1:
             with ProcessPoolExecutor(min(workers, len(tasks)), mp_context=multiprocessing.get_context("fork")) as ex:
                 results = list(ex.map(_task, args))
@@ -327,7 +332,8 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
     if np.any(ok):
         u = rng.random(int(ok.sum())) * m_lit[ok]
         f = np.where(u < m1[ok], u, f_b[ok] + (u - m1[ok]))
-        target = np.minimum(-np.log1p(-np.minimum(f, f_end[ok])), tau[ok, -1])
+        with np.errstate(divide="ignore"):                           # f = 1 where the segment is opaque
+            target = np.minimum(-np.log1p(-np.minimum(f, f_end[ok])), tau[ok, -1])
         t = _invert(t_nodes[ok], tau[ok], target)
         x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
         nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
@@ -415,7 +421,7 @@ def _trace(atm, w, origin, direction, sun, rng, first, limit):
         rr = alive & (order[idx] >= ROULETTE_ORDER)
         if np.any(rr):
             g = idx[rr]
-            q = np.clip(weight[g] / weight_first[g], 0.05, 1.0)
+            q = np.clip(weight[g] / weight_first[g], ROULETTE_MIN, 1.0)
             survive = rng.random(q.size) < q
             weight[g] /= q
             alive[np.nonzero(rr)[0][~survive]] = False

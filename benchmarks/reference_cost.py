@@ -1,0 +1,42 @@
+"""Cost and precision of the reference solver at a quality level on a preset's daylight query set.
+
+    python benchmarks/reference_cost.py [--preset earth] [--quality high] [--rays 100]
+
+The first ``--rays`` daylight rays (sun 2-90 deg up) of benchmarks/tables_pareto.py's fixed query set (ground,
+aircraft, stratosphere and space cameras; random, near-sun, horizon and downward views), solved at the
+quality's paths per ray and wavelength on every core. Prints the wall time, the cost per ray (all
+wavelengths) and the median, 90th percentile and largest relative standard error.
+"""
+import argparse
+import time
+
+import numpy as np
+
+from planetviz import load_atmosphere
+from planetviz.reference import solve
+from planetviz.reference.montecarlo import QUALITY_SAMPLES
+from tables_pareto import query_set
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--preset", default="earth")
+    ap.add_argument("--quality", default="high", choices=list(QUALITY_SAMPLES))
+    ap.add_argument("--rays", type=int, default=100)
+    args = ap.parse_args()
+    atm = load_atmosphere(args.preset)
+    cams, views, suns, elevations = query_set(atm)
+    day = np.nonzero(elevations >= 2.0)[0][:args.rays]
+    paths = QUALITY_SAMPLES[args.quality]
+    t0 = time.perf_counter()
+    res = solve(atm, cams[day], views[day], suns[day], samples=paths, seed=5)
+    seconds = time.perf_counter() - t0
+    ok = res.radiance > 1e-12
+    rel = res.stderr[ok] / res.radiance[ok]
+    print(f"{args.preset}, {args.quality} ({paths} paths per ray and wavelength), {len(day)} daylight rays x "
+          f"{atm.n_wavelengths} wavelengths: {seconds:.0f} s ({seconds / len(day):.2f} s per ray); relative "
+          f"standard error median {np.median(rel):.4f}, p90 {np.percentile(rel, 90):.4f}, max {rel.max():.4f}")
+
+
+if __name__ == "__main__":
+    main()
