@@ -22,9 +22,10 @@ Method. L = L_1 + L_{>=2}:
   - **Next-event estimation along the next segment**: at a path vertex x with new direction d, the light
     the next vertex scatters toward x straight from the sun is estimated before that vertex is sampled:
     one collision drawn only from the sun-lit part of the segment (the planet's shadow is an interval of
-    the line, :mod:`planetviz.reference.shadow`), weighted by the lit part's collision probability, plus
-    the directly lit ground at the segment's end, exactly. Light from vertices in the shadow, which is
-    zero, is never sampled, so twilight and the night side cost no more paths than daylight.
+    the line, :mod:`planetviz.reference.shadow`), plus the directly lit ground at the segment's end,
+    exactly. Where the segment meets the shadow, T_sun climbs from 0 at the shadow's edge, so the
+    collision is drawn in proportion to it too (:func:`_next_event`). Light from vertices in the shadow,
+    which is zero, is never sampled.
   - **Directions**: drawn from the local Rayleigh/Mie phase mixture around the previous direction (the
     cosine law at the ground) with probability 1 - EPSILON, and with probability EPSILON from a guide pdf
     around the sun (a Henyey-Greenstein lobe of g = GUIDE_SUN_G, half and half with the Mie phase function
@@ -49,7 +50,7 @@ import numpy as np
 
 from ..geometry import distance_to_ground, distance_to_top_exit
 from ..optics.phase import PENNDORF_A, henyey_greenstein, sample_henyey_greenstein, sample_rayleigh_like
-from .optical_depth import shell_segment, sun_transmittance, view_transmittance
+from .optical_depth import optical_depth, shell_segment, sun_transmittance, view_transmittance
 from .shadow import shadow_interval
 from .single import single_scattering
 
@@ -67,6 +68,9 @@ GUIDE_MIN_G = 0.3
 #: after the first event), at least ROULETTE_MIN (so a survivor's weight grows at most 1 / ROULETTE_MIN-fold).
 ROULETTE_ORDER = 3
 ROULETTE_MIN = 0.2
+#: Strata of the next event's lit part, and the share of their mean T_sun every stratum keeps.
+STRATA = 16
+DEFENSIVE = 0.1
 
 
 @dataclass
@@ -316,8 +320,11 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
     """Light that the next vertex along p + t d (t in [0, length]) sends straight from the sun toward p.
 
     One collision drawn from the sun-lit part of the segment (collision probability there m_lit) gives
-    m_lit beta_scat P(d . s) T_sun / (beta~ density) ; the directly lit ground at the end adds
-    T(segment) (a / pi) max(0, n . s) T_sun exactly.
+    beta_scat exp(-tau) P(d . s) T_sun over its pdf; the directly lit ground at the end adds
+    T(segment) (a / pi) max(0, n . s) T_sun exactly. The lit part is cut into STRATA strata of equal
+    collision probability; on segments that meet the shadow a stratum is chosen in proportion to T_sun at its
+    middle (2-panel quadrature; plus DEFENSIVE times the strata's mean, so none is left out), elsewhere
+    uniformly, and the collision is drawn from the optical-depth table within it.
     """
     out = np.zeros(len(p))
     a, b = shadow_interval(p, d, sun, atm.bottom_radius_m)
@@ -330,16 +337,38 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
     m1, m_lit = f_a, f_a + (f_end - f_b)
     ok = m_lit > 0.0
     if np.any(ok):
-        u = rng.random(int(ok.sum())) * m_lit[ok]
-        f = np.where(u < m1[ok], u, f_b[ok] + (u - m1[ok]))
-        with np.errstate(divide="ignore"):                           # f = 1 where the segment is opaque
-            target = np.minimum(-np.log1p(-np.minimum(f, f_end[ok])), tau[ok, -1])
-        t = _invert(t_nodes[ok], tau[ok], target)
-        x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
+        n_ok = int(ok.sum())
+        tn, tb = t_nodes[ok], tau[ok]
+
+        def position(u):
+            """Distances (P, K) where the lit collision mass reaches u (P, K), the shadow skipped."""
+            f = np.where(u < m1[ok, None], u, f_b[ok, None] + (u - m1[ok, None]))
+            with np.errstate(divide="ignore"):                       # f = 1 where the segment is opaque
+                target = np.minimum(-np.log1p(-np.minimum(f, f_end[ok, None])), tb[:, -1:])
+            k = target.shape[1]
+            return _invert(np.repeat(tn, k, 0), np.repeat(tb, k, 0), target.ravel()).reshape(n_ok, k)
+
+        # Strata of equal lit mass, chosen in proportion to T_sun at their middles (plus a DEFENSIVE share of
+        # the mean) where the segment meets the shadow: T_sun there runs from 0 at the shadow's edge up.
+        weights = np.ones((n_ok, STRATA))
+        edge = np.nonzero((a < b)[ok])[0]                            # segments that meet the shadow
+        if edge.size:
+            mid = position((np.arange(STRATA) + 0.5) / STRATA * m_lit[ok, None])[edge]
+            xm = p[ok][edge, None, :] + mid[..., None] * d[ok][edge, None, :]
+            sm = np.broadcast_to(sun[ok][edge, None, :], xm.shape)
+            t_mid = np.exp(-optical_depth(atm, xm, sm, np.inf, panels=2, index=w)[..., 0])
+            t_mid = np.where(np.isfinite(distance_to_ground(xm, sm, atm.bottom_radius_m)), 0.0, t_mid)
+            weights[edge] = t_mid + DEFENSIVE * t_mid.mean(axis=1, keepdims=True)
+            weights[edge[weights[edge].sum(axis=1) <= 0.0]] = 1.0
+        cdf = np.cumsum(weights, axis=1)
+        pick = np.minimum((rng.random(n_ok)[:, None] * cdf[:, -1:] >= cdf).sum(axis=1), STRATA - 1)
+        share = STRATA * weights[np.arange(n_ok), pick] / cdf[:, -1]          # pdf over the plain lit pdf
+        t = position(((pick + rng.random(n_ok)) / STRATA * m_lit[ok])[:, None])[:, 0]
+        x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ok], d[ok], tn, tb, t)
         nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
         phase = b_r * atm.rayleigh.phase_function(nu) + b_m * atm.mie.phase_function(nu)[:, w]
         t_sun = sun_transmittance(atm, x, sun[ok], index=w)[:, 0]
-        density = np.where(sigma > 0.0, sigma * np.exp(-tau_t), np.inf)      # of tau~, times m_lit
+        density = np.where(sigma > 0.0, sigma * np.exp(-tau_t), np.inf) * share   # of t, times m_lit
         out[ok] = m_lit[ok] * np.exp(-tau_exact) / density * phase * t_sun
     albedo = float(atm.ground_albedo[w])
     if albedo > 0.0 and np.any(ground):
