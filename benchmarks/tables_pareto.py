@@ -1,18 +1,20 @@
 """Precompute time against radiance error of the tables, per atmosphere: quality levels and a sweep.
 
-    python benchmarks/tables_pareto.py [--presets earth mars exo-co2-thick] [--sweep] [--paths 3000]
+    python benchmarks/tables_pareto.py [--presets earth mars exo-co2-thick] [--sweep] [--paths 32768]
+                                       [--twilight-paths 32768]
                                        [--plot docs/img/tables-pareto.png]
 
 Query set (fixed, 200 rays per atmosphere): cameras at 2 m (ground), 10 km (aircraft), 30 km
 (stratosphere), 1000 km and 40000 km (space); sun elevations 90, 60, 30, 10, 4, 2 deg (daylight: sun
 zenith <= 88 deg) and 0, -2, -4, -6 deg (twilight); per camera and sun, four views: one random, one 3 deg
 from the sun, one grazing the horizon (the limb from space) and one toward the ground (the planet from
-space). The reference is the Monte Carlo solver with ``--paths`` paths per ray (``--twilight-paths`` for the
-40% of rays in twilight), stored in benchmarks/data/reference-<preset>[-twilight]-<paths>.npz with the atmosphere's
-parameters (and their hash), the rays, the seed, the solver's version and the standard errors (recomputed
-when absent, or computed for other parameters or by another version of the solver).
+space). The reference is the solver with ``--paths`` paths per ray and wavelength (``--twilight-paths`` for
+the 40% of rays in twilight; default: the reference's high quality for both), stored in
+benchmarks/data/reference-<preset>[-twilight]-<paths>.npz with the atmosphere's parameters, the rays, the
+seed, the solver's version and the standard errors (planetviz.reference.stored: recomputed when absent, or
+computed for other parameters or by another version of the solver).
 
-Errors are relative, over radiances above 1e-5 / sr. The reference is noisy (about 1% per ray), so the
+Errors are relative, over radiances above 1e-5 / sr. The reference has its own noise, so the
 RMS error of the tables is estimated with the noise removed: sqrt(mean(e^2) - mean(s^2)), e the relative
 difference and s the reference's relative standard error per ray (both averaged over rays and
 wavelengths); the noise floor sqrt(mean(s^2)) is printed beside it. p95 is of |e| (noise included).
@@ -26,9 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from planetviz import load_atmosphere
-from planetviz.reference import solve
-from planetviz.reference.montecarlo import SOLVER_VERSION
-from planetviz.tables.cache import parameters_hash
+from planetviz.reference.montecarlo import QUALITY_SAMPLES
+from planetviz.reference.stored import stored_solve
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.precompute import QUALITY, precompute
 
@@ -71,35 +72,22 @@ def query_set(atm, seed=1):
 
 def reference(name, atm, queries, paths, twilight_paths):
     """Reference radiance and standard error: ``paths`` per ray, ``twilight_paths`` for the twilight rays
-    (sun below 2 deg), whose Monte Carlo noise is otherwise ten times the daylight one."""
+    (sun below 2 deg), whose Monte Carlo noise is otherwise several times the daylight one; stored under
+    benchmarks/data/ (planetviz.reference.stored)."""
     out = []
-    for label, sel, n in (("", slice(None), paths), ("-twilight", queries[3] < 2, twilight_paths)):
-        path = DATA / f"reference-{name}{label}-{n}.npz"
-        wanted = (parameters_hash(atm.to_dict()), SOLVER_VERSION)
-        stale = path.exists() and _computed_for(path) != wanted
-        if stale:
-            print(f"({path.name} was computed for other parameters of {name} or another solver version: "
-                  "recomputed)", flush=True)
-        if stale or not path.exists():
-            t0 = time.perf_counter()
-            res = solve(atm, *(q[sel] for q in queries[:3]), samples=n, seed=3)
-            print(f"(reference for {name}{label}: {len(res.radiance)} rays x {n} paths in "
-                  f"{time.perf_counter() - t0:.0f} s)", flush=True)
-            DATA.mkdir(exist_ok=True)
-            np.savez(path, radiance=res.radiance, stderr=res.stderr, atmosphere=wanted[0], solver_version=wanted[1],
-                     parameters=atm.to_json(), camera_m=queries[0][sel], view_dir=queries[1][sel],
-                     sun_dir=queries[2][sel], paths=n, seed=3)
-        with np.load(path) as f:
-            out.append((sel, f["radiance"], f["stderr"]))
+    sets = [("", slice(None), paths)] + ([("-twilight", queries[3] < 2, twilight_paths)] if twilight_paths != paths
+                                         else [])
+    for label, sel, n in sets:
+        t0 = time.perf_counter()
+        res = stored_solve(DATA / f"reference-{name}{label}-{n}.npz", atm, *(q[sel] for q in queries[:3]),
+                           samples=n, seed=3)
+        print(f"(reference for {name}{label}: {len(res.radiance)} rays x {n} paths, {time.perf_counter() - t0:.0f} s "
+              "to compute or load)", flush=True)
+        out.append((sel, res.radiance, res.stderr))
     radiance, stderr = out[0][1].copy(), out[0][2].copy()
-    radiance[out[1][0]], stderr[out[1][0]] = out[1][1], out[1][2]
+    for sel, rad, err in out[1:]:
+        radiance[sel], stderr[sel] = rad, err
     return radiance, stderr
-
-
-def _computed_for(path):
-    """(parameters' hash, solver version) a stored reference was computed for (None where not stored)."""
-    with np.load(path) as f:
-        return tuple(str(f[key]) if key in f else None for key in ("atmosphere", "solver_version"))
 
 
 def errors(lut, ref, stderr, mask):
@@ -158,8 +146,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--presets", nargs="+", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--sweep", action="store_true", help="also the sweep of sizes, samples and orders")
-    ap.add_argument("--paths", type=int, default=3000)
-    ap.add_argument("--twilight-paths", type=int, default=12000)
+    ap.add_argument("--paths", type=int, default=QUALITY_SAMPLES["high"])
+    ap.add_argument("--twilight-paths", type=int, default=QUALITY_SAMPLES["high"])
     ap.add_argument("--plot", default=None, help="PNG of time against daylight error, Pareto front marked")
     ap.add_argument("--max-stderr", type=float, default=None,
                     help="only rays the reference resolves to this relative standard error (e.g. 0.02)")

@@ -5,3 +5,18 @@ import tempfile
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 os.environ["PLANETVIZ_CACHE"] = tempfile.mkdtemp(prefix="planetviz-test-cache-")
+
+
+def stored_reference(tag, atm, cameras, views, sun, samples, seed):
+    """The reference solver's result for these rays, computed once and kept under benchmarks/data/ (recomputed
+    when the atmosphere, the rays, the paths, the seed or the solver's version change)."""
+    import hashlib
+    from pathlib import Path
+
+    import numpy as np
+
+    from planetviz.reference.stored import stored_solve
+    rays = np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (cameras, views, sun)])
+    name = f"test-{tag}-{hashlib.sha1(rays.tobytes()).hexdigest()[:10]}.npz"
+    return stored_solve(Path(__file__).resolve().parents[1] / "benchmarks" / "data" / name, atm, cameras, views, sun,
+                        samples=samples, seed=seed)

@@ -13,6 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from conftest import stored_reference
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -583,7 +584,7 @@ def test_a_backward_lobe_is_not_read_as_a_forward_one():
     sun = np.array([np.cos(np.radians(30)), 0.0, np.sin(np.radians(30))])
     view = np.array([[np.cos(np.radians(45)), 0.0, np.sin(np.radians(45))]])
     got, _ = sky_radiance(tables, atm, cam, view, sun)
-    ref = solve(atm, cam, view, sun, samples=4096, seed=5)
+    ref = stored_reference("backward-lobe", atm, cam, view, sun, samples=4096, seed=5)
     assert np.all(np.abs(got - ref.radiance) <= 4 * ref.stderr + 0.03 * ref.radiance), (got, ref.radiance,
                                                                                         ref.stderr)
 
@@ -654,7 +655,7 @@ def _reference_flux(atm):
     """The same flux from the Monte Carlo reference solver (all orders, 16 directions per side, 4096 paths each:
     a standard error of about 0.003)."""
     def radiance(c, v, s):
-        res = solve(atm, c, v, s, samples=4096, seed=3)
+        res = stored_reference(f"energy-{atm.name}", atm, c, v, s, samples=4096, seed=3)
         return res.radiance, res.stderr
     return upward_flux_at_the_top(atm, radiance, n=16)
 

@@ -7,9 +7,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import stored_reference
 
 from planetviz import load_atmosphere
 from planetviz.reference import optical_depth, single_scattering, solve
+from planetviz.reference.montecarlo import QUALITY_SAMPLES
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_scattering, get_transmittance_to_sun
 from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, mu_s_from_x_mu_s,
@@ -318,7 +320,7 @@ def test_standard_tables_against_the_reference(preset):
     sun = np.array([0.5, 0.0, 0.866])
     tables = precompute(atm, QUALITY["standard"])
     lut, trans = sky_radiance(tables, atm, cams, views, sun)
-    ref = solve(atm, cams, views, sun, samples=8192 if preset == "mars" else 2048, seed=21)
+    ref = stored_reference(f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
     rel = (lut - ref.radiance) / ref.radiance
     assert np.sqrt(np.mean(rel ** 2)) < 0.03, rel
     # Transmittance against the reference's deterministic quadrature, compared as optical depth: T = exp(-tau),

@@ -9,7 +9,7 @@ radiance in 1/sr per unit solar irradiance.
 Method. L = L_1 + L_{>=2}:
 
 * L_1 (single scattering and the directly lit ground seen along the view ray) by deterministic quadrature
-  (:func:`~planetviz.reference.single.single_scattering`, relative error < 1e-6).
+  (:func:`~planetviz.reference.single.single_scattering`, relative error < 1e-5).
 * L_{>=2} by backward Monte Carlo path tracing, one wavelength per path, vectorised over paths:
 
   - **Free flights**: along each straight segment (to the ground or to space) the optical depth is
@@ -33,7 +33,7 @@ Method. L = L_1 + L_{>=2}:
     mixture pdf is then at most 2 / EPSILON, so a strong forward lobe (g up to 0.999) cannot give a rare
     path a huge weight: the estimator has no heavy tail there.
   - Absorption enters as a weight (the single-scattering albedo); Russian roulette after the third event,
-    against the path's weight after its first.
+    against the path's weight after its first, survival at least ROULETTE_MIN.
 
 Contributions of order ``max_order`` and below only; ``single="paths"`` estimates L_1 with the same paths
 too (the check of the path tracer against the quadrature). The standard error is that of the mean of
@@ -118,10 +118,14 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
         first = 2
     limit = np.iinfo(np.int64).max if max_order is None else max_order
     if first <= limit and samples > 0:
-        per_batch = max(1, batch_paths // samples)
-        tasks = [(w, lo, min(n, lo + per_batch)) for w in range(atm.n_wavelengths) for lo in range(0, n, per_batch)]
-        args = [(atm, w, camera[lo:hi], view[lo:hi], sun[lo:hi], samples, (seed, w, lo), first, limit)
-                for w, lo, hi in tasks]
+        # Tasks: blocks of rays x chunks of at most batch_paths paths, per wavelength, each with its own seed.
+        chunk = min(samples, batch_paths)
+        per_block = max(1, batch_paths // chunk)
+        tasks = [(w, lo, min(n, lo + per_block), c, min(chunk, samples - c * chunk))
+                 for w in range(atm.n_wavelengths) for lo in range(0, n, per_block)
+                 for c in range(-(-samples // chunk))]
+        args = [(atm, w, camera[lo:hi], view[lo:hi], sun[lo:hi], paths, (seed, w, lo) + ((c,) if c else ()),
+                 first, limit) for w, lo, hi, c, paths in tasks]
         if workers is None:
             workers = (os.cpu_count() or 1) if n * samples * atm.n_wavelengths > 20_000 else 1
         if workers > 1 and len(tasks) > 1:
@@ -129,21 +133,28 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
                 results = list(ex.map(_task, args))
         else:
             results = [_task(a) for a in args]
-        for (w, lo, hi), (m, e) in zip(tasks, results):
-            mean[lo:hi, w] += m
-            err[lo:hi, w] = e
+        # Chunks combined by Chan et al.'s pairwise update of (count, mean, sum of squared deviations).
+        count, m_ms, m2 = np.zeros((n, atm.n_wavelengths)), np.zeros((n, atm.n_wavelengths)), np.zeros((n, atm.n_wavelengths))
+        for (w, lo, hi, _, paths), (m, sq) in zip(tasks, results):
+            total = count[lo:hi, w] + paths
+            delta = m - m_ms[lo:hi, w]
+            m2[lo:hi, w] += sq + delta * delta * count[lo:hi, w] * paths / total
+            m_ms[lo:hi, w] += delta * paths / total
+            count[lo:hi, w] = total
+        mean += m_ms
+        err = np.sqrt(m2 / (count - 1) / count) if samples > 1 else np.full_like(mean, np.inf)
     transmittance, _ = view_transmittance(atm, camera, view)
     return ReferenceResult(mean, err, transmittance, samples)
 
 
 def _task(args):
-    """(mean, standard error) of one block of rays at one wavelength."""
+    """(mean, sum of squared deviations from it) per ray, of one block of rays and paths at one wavelength."""
     atm, w, camera, view, sun, samples, key, first, limit = args
     rng = np.random.default_rng(np.random.SeedSequence(list(key)))
     rep = np.repeat(np.arange(len(camera)), samples)
     contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], rng, first, limit).reshape(len(camera), samples)
-    std = contrib.std(axis=1, ddof=1) / np.sqrt(samples) if samples > 1 else np.full(len(camera), np.inf)
-    return contrib.mean(axis=1), std
+    mean = contrib.mean(axis=1)
+    return mean, ((contrib - mean[:, None]) ** 2).sum(axis=1)
 
 
 # ------------------------------------------------------------------ directions

@@ -1,0 +1,59 @@
+"""Reference results computed once and kept in .npz files with everything they depend on.
+
+A stored result holds the radiance, its standard error and the view transmittance, with the atmosphere's
+parameters (JSON), the rays, the paths per ray, the seed and :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`.
+:func:`stored_solve` returns it while all of those match the request and recomputes (and rewrites) it when any
+differs or the file cannot be read.
+"""
+from __future__ import annotations
+
+import os
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from .montecarlo import SOLVER_VERSION, ReferenceResult, solve
+
+
+def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0) -> ReferenceResult:
+    """:func:`~planetviz.reference.solve` through the file ``path`` (.npz), recomputed when stale.
+
+    Example
+    -------
+    >>> from planetviz import load_atmosphere
+    >>> from planetviz.reference.stored import stored_solve
+    >>> atm = load_atmosphere("earth")
+    >>> res = stored_solve("/tmp/zenith.npz", atm, [[0, 0, 6360002.0]], [[0, 0, 1.0]], [0, 0.5, 0.866], 64)
+    >>> res.radiance.shape
+    (1, 3)
+    """
+    path = Path(path)
+    camera = np.atleast_2d(np.asarray(camera, dtype=float))
+    view_dir = np.atleast_2d(np.asarray(view_dir, dtype=float))
+    sun_dir = np.broadcast_to(np.asarray(sun_dir, dtype=float), camera.shape)
+    wanted = {"parameters": atm.to_json(), "solver_version": SOLVER_VERSION, "paths": samples, "seed": seed}
+    stored = _load(path, wanted, (camera, view_dir, sun_dir))
+    if stored is not None:
+        return stored
+    res = solve(atm, camera, view_dir, sun_dir, samples=samples, seed=seed)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp.npz")
+    np.savez(tmp, radiance=res.radiance, radiance_stderr=res.stderr, transmittance=res.transmittance,
+             camera_m=camera, view_dir=view_dir, sun_dir=sun_dir,
+             wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **wanted)
+    os.replace(tmp, path)
+    return res
+
+
+def _load(path, wanted, rays):
+    """The stored result if it was computed for ``wanted`` and these rays, else None (absent or unreadable)."""
+    try:
+        with np.load(path) as f:
+            if any(str(f[key]) != str(value) for key, value in wanted.items()):
+                return None
+            if any(not np.array_equal(f[key], ray) for key, ray in zip(("camera_m", "view_dir", "sun_dir"), rays)):
+                return None
+            return ReferenceResult(f["radiance"], f["radiance_stderr"], f["transmittance"], int(f["paths"]))
+    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile):
+        return None
