@@ -299,18 +299,12 @@ def test_the_orders_beyond_the_cap_are_added_as_a_geometric_tail():
 @pytest.mark.parametrize("preset", ["earth", pytest.param("mars", marks=pytest.mark.slow),
                                     pytest.param("exo-co2-thick", marks=pytest.mark.slow)])
 def test_standard_tables_against_the_reference(preset):
-    # Full radiance (all orders, ground, aerial perspective) against the Monte Carlo reference for 12 rays
-    # in daylight. Bound: RMS relative error < 3%, where the reference's own standard error is ~1.5% (Earth
-    # and the thick planet at 2048 paths; Mars at 8192: under its sharp forward lobes 2048 paths alone
-    # scatter by 3.2% RMS, which perfect tables would fail); tables without multiple scattering miss 10-20%
-    # (Earth) or > 50% (the thick atmosphere) and fail. Measured, standard: Earth 1.46%; Mars 2.947% since the
-    # particles' lobe is renormalised in the irradiance integral (table format 15, 2.998% then; 4.6% before, the
-    # views down 6-9% low at 440 nm, and this test failed; 7.8% before table format 11): a thin margin, what is left
-    # is the zenith from the ground (-9% at 440 nm) and the horizontal view from 10 km (+7% at 550 nm); against
-    # a 40960-path reference (noise 0.8%) 2.85%. The 10-bar CO2 planet 2.35% since table format 16 (its
-    # scattering density iterated from itself on its own rows, and 16 r rows in its multiple-scattering table,
-    # precompute.sizes_for; 10.5% at format 15, 440 nm down to -25%, THICK_LOSES_ENERGY, and this test failed;
-    # 4.0% with 8 rows).
+    # Full radiance (all orders, ground, aerial perspective) against the reference solver for 12 rays in
+    # daylight, at its high quality (stored under benchmarks/data/; RMS relative standard error 0.21% Earth,
+    # 0.44% Mars, 0.93% the thick planet, so a 3% error is resolved). Bound: RMS relative error < 3%; tables
+    # without multiple scattering miss 10-20% (Earth) or > 50% (the thick atmosphere) and fail. Measured,
+    # standard tables: Earth 0.35%, Mars 2.60% (worst ray -7.3%), the 10-bar CO2
+    # planet 1.90%.
     atm = load_atmosphere(preset)
     r = atm.bottom_radius_m
     cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
