@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .atmosphere import Atmosphere, LIMITS
+from .geometry import distance_to_ground
 
 #: Seeds of the tuning split and of the held-out split (never used while tuning; reported separately).
 SPLITS = {"tuning": range(0, 1000), "held-out": range(100_000, 101_000)}
@@ -99,7 +100,6 @@ def _sun_seen_at(point, elevation_deg, rng):
 
 def look_point(atm, camera, view):
     """Where a ray looks: its ground hit, else its closest approach inside the shell, else the camera."""
-    from .geometry import distance_to_ground
     t_ground = distance_to_ground(camera[None], view[None], atm.bottom_radius_m)[0]
     if np.isfinite(t_ground):
         return camera + t_ground * view

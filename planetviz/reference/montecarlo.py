@@ -41,10 +41,10 @@ independent paths; ``samples`` paths per ray and wavelength.
 """
 from __future__ import annotations
 
+import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
-import multiprocessing
 
 import numpy as np
 
