@@ -5,7 +5,9 @@
 The first ``--rays`` daylight rays (sun 2-90 deg up) of benchmarks/tables_pareto.py's fixed query set (ground,
 aircraft, stratosphere and space cameras; random, near-sun, horizon and downward views), solved at the
 quality's paths per ray and wavelength on every core. Prints the wall time, the cost per ray (all
-wavelengths) and the median, 90th percentile and largest relative standard error.
+wavelengths) and the median, 90th percentile and largest relative standard error, over all of them and over
+those that are daylight where they look (planetviz.validation.sun_elevation_seen >= 2 deg: a limb ray from
+space may look at the night side while the sun is up below the camera).
 """
 import argparse
 import time
@@ -15,6 +17,7 @@ import numpy as np
 from planetviz import load_atmosphere
 from planetviz.reference import solve
 from planetviz.reference.montecarlo import QUALITY_SAMPLES
+from planetviz.validation import sun_elevation_seen
 from tables_pareto import query_set
 
 
@@ -31,11 +34,14 @@ def main():
     t0 = time.perf_counter()
     res = solve(atm, cams[day], views[day], suns[day], samples=paths, seed=5)
     seconds = time.perf_counter() - t0
-    ok = res.radiance > 1e-12
-    rel = res.stderr[ok] / res.radiance[ok]
     print(f"{args.preset}, {args.quality} ({paths} paths per ray and wavelength), {len(day)} daylight rays x "
-          f"{atm.n_wavelengths} wavelengths: {seconds:.0f} s ({seconds / len(day):.2f} s per ray); relative "
-          f"standard error median {np.median(rel):.4f}, p90 {np.percentile(rel, 90):.4f}, max {rel.max():.4f}")
+          f"{atm.n_wavelengths} wavelengths: {seconds:.0f} s ({seconds / len(day):.2f} s per ray)")
+    seen = np.array([sun_elevation_seen(atm, cams[i], views[i], suns[i]) for i in day])
+    for label, rows in (("all", np.ones(len(day), bool)), ("daylight where they look", seen >= 2.0)):
+        ok = (res.radiance > 1e-12) & rows[:, None]
+        rel = res.stderr[ok] / res.radiance[ok]
+        print(f"  {label} ({rows.sum()} rays): relative standard error median {np.median(rel):.4f}, "
+              f"p90 {np.percentile(rel, 90):.4f}, max {rel.max():.4f}")
 
 
 if __name__ == "__main__":
