@@ -379,8 +379,10 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
         nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
         phase = b_r * atm.rayleigh.phase_function(nu) + b_m * atm.mie.phase_function(nu)[:, w]
         t_sun = sun_transmittance(atm, x, sun[ok], index=w)[:, 0]
-        density = np.where(sigma > 0.0, sigma * np.exp(-tau_t), np.inf) * share   # of t, times m_lit
-        out[ok] = m_lit[ok] * np.exp(-tau_exact) / density * phase * t_sun
+        # exp(-tau) over the sampled density sigma~ exp(-tau~) share / m_lit, as one exponent (no underflow
+        # on opaque segments).
+        ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma * share, 1.0), 0.0)
+        out[ok] = m_lit[ok] * ratio * phase * t_sun
     albedo = float(atm.ground_albedo[w])
     if albedo > 0.0 and np.any(ground):
         g = np.nonzero(ground)[0]
@@ -432,9 +434,9 @@ def _trace(atm, w, origin, direction, sun, rng, first, limit):
             g = idx[ci]
             t = _invert(t_nodes[ci], tau[ci], -np.log1p(-rng.random(ci.size) * absorbed[ci]))
             x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ci], dd[ci], t_nodes[ci], tau[ci], t)
-            density = np.where(sigma > 0.0, sigma * np.exp(-tau_t) / absorbed[ci], np.inf)
+            ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma, 1.0), 0.0)
             pos[g] = x
-            weight[g] *= (b_r + b_m) * np.exp(-tau_exact) / (p_collide[ci] * density)
+            weight[g] *= (b_r + b_m) * absorbed[ci] * ratio / p_collide[ci]
             order[g] += 1
             scat = (b_r + b_m) > 0.0
             weight[g[~scat]] = 0.0
