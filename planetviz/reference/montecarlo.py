@@ -381,7 +381,8 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
         t_sun = sun_transmittance(atm, x, sun[ok], index=w)[:, 0]
         # exp(-tau) over the sampled density sigma~ exp(-tau~) share / m_lit, as one exponent (no underflow
         # on opaque segments).
-        ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma * share, 1.0), 0.0)
+        dens = sigma * share                              # 0 only where the air is too thin to represent
+        ratio = np.where(dens > 0.0, np.exp(tau_t - tau_exact) / np.where(dens > 0.0, dens, 1.0), 0.0)
         out[ok] = m_lit[ok] * ratio * phase * t_sun
     albedo = float(atm.ground_albedo[w])
     if albedo > 0.0 and np.any(ground):
