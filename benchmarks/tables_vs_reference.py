@@ -1,0 +1,42 @@
+"""Standard tables against the stored high-quality reference on the 12 daylight rays of
+tests/test_tables.py::test_standard_tables_against_the_reference, per preset.
+
+    cd benchmarks && python tables_vs_reference.py
+
+Prints the tables' RMS relative error, the reference's RMS relative standard error beside it, and the
+three largest errors.
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from planetviz import load_atmosphere
+from planetviz.reference.montecarlo import QUALITY_SAMPLES
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.tables.precompute import QUALITY, precompute
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from conftest import stored_reference  # noqa: E402
+
+
+def main():
+    for preset in ("earth", "mars", "exo-co2-thick"):
+        atm = load_atmosphere(preset)
+        r = atm.bottom_radius_m
+        cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
+        views = np.array([[0, 0, 1], [0.7, 0, 0.7], [-0.7, 0, 0.7], [0, 1, 0.1], [0.3, 0.3, 0.9], [0, -1, 0.3],
+                          [1, 0, 0], [0, 1, -0.3], [0.2, 0, -1], [0, 0, -1], [0.3, 0, -1], [0, 0.17, -1]], float)
+        views /= np.linalg.norm(views, axis=1, keepdims=True)
+        sun = np.array([0.5, 0.0, 0.866])
+        ref = stored_reference(f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
+        lut, _ = sky_radiance(precompute(atm, QUALITY["standard"]), atm, cams, views, sun)
+        rel = (lut - ref.radiance) / ref.radiance
+        noise = ref.stderr / ref.radiance
+        worst = rel.ravel()[np.argsort(-np.abs(rel.ravel()))[:3]]
+        print(f"{preset}: RMS {np.sqrt(np.mean(rel ** 2)):.4f} (reference noise RMS {np.sqrt(np.mean(noise ** 2)):.4f}, "
+              f"max {noise.max():.4f}); largest {np.round(worst, 3)}")
+
+
+if __name__ == "__main__":
+    main()
