@@ -3,6 +3,8 @@
     planetviz sky        [--atmosphere A] [--sun-elevation DEG] [--quality Q]
     planetviz atmosphere PRESET_OR_FILE
     planetviz precompute --atmosphere A [--quality draft|standard|high] [--no-cache]
+    planetviz queries    [--atmosphere A] --out Q.npz [--latitude DEG] [--longitude DEG] [--altitude M]
+                         [--sun-elevation DEG] [--sun-azimuth DEG] [--elevations DEG ...] [--azimuths DEG ...]
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
                          [--method reference|lut|fallback] [--quality draft|standard|high] [--no-cache]
                          [--samples N]
@@ -99,6 +101,17 @@ def _cmd_radiance(args) -> int:
     return 0
 
 
+def _cmd_queries(args) -> int:
+    from .queries import site_queries
+    atm = load_atmosphere(args.atmosphere)
+    q = site_queries(atm.bottom_radius_m, args.latitude, args.longitude, args.altitude, args.sun_elevation,
+                     args.sun_azimuth, args.elevations, args.azimuths)
+    np.savez(args.out, camera_m=q.camera_m, view_dir=q.view_dir, sun_dir=q.sun_dir[0])
+    print(f"wrote {args.out}: {len(q.camera_m)} views from {args.altitude:g} m above ({args.latitude:g}, "
+          f"{args.longitude:g}) on {atm.name}, sun {args.sun_elevation:g} deg up at azimuth {args.sun_azimuth:g}")
+    return 0
+
+
 def _cmd_sky(args) -> int:
     from .color import radiance_to_srgb
     from .reference import ground_sun_transmittance, solve
@@ -184,6 +197,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
     p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache")
     p.set_defaults(func=_cmd_precompute)
+
+    p = sub.add_parser("queries", help="write a queries file (Q.npz) of views from one site, for radiance")
+    p.add_argument("--atmosphere", default="earth", help=f"preset ({presets}) or JSON file (its ground radius)")
+    p.add_argument("--out", required=True, help="output npz (camera_m, view_dir, sun_dir)")
+    p.add_argument("--latitude", type=float, default=0.0, help="site [deg]")
+    p.add_argument("--longitude", type=float, default=0.0, help="site [deg]")
+    p.add_argument("--altitude", type=float, default=1.7, help="camera above the ground [m]")
+    p.add_argument("--sun-elevation", type=float, default=30.0, help="seen from the site [deg]")
+    p.add_argument("--sun-azimuth", type=float, default=180.0, help="from north through east [deg]")
+    p.add_argument("--elevations", type=float, nargs="+", default=[90.0, 45.0, 10.0, 2.0],
+                   help="view elevations [deg] (90: the zenith, once)")
+    p.add_argument("--azimuths", type=float, nargs="+", default=[0.0, 90.0, 180.0, 270.0],
+                   help="view azimuths from north through east [deg]")
+    p.set_defaults(func=_cmd_queries)
 
     p = sub.add_parser("radiance", help="radiance for a set of rays (Q.npz -> OUT.npz)")
     p.add_argument("--atmosphere", required=True, help=f"preset ({presets}) or JSON file")

@@ -4,8 +4,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from .atmosphere import Atmosphere, AtmosphereError, from_dict, parse_json
+from .resources import asset_dir
 
-PRESET_DIR = Path(__file__).resolve().parents[1] / "assets" / "atmospheres"
+PRESET_DIR = asset_dir("atmospheres")
 
 #: Preset name -> file. ``earth`` is the issue's standard-mode contract; the others are advanced.
 PRESETS = {p.stem: p for p in sorted(PRESET_DIR.glob("*.json"))}

@@ -77,3 +77,35 @@ def load_queries(path, bottom_radius_m: float) -> Queries:
             raise
         raise ValueError(f"queries: {path} is not a valid .npz file ({exc})") from None
     return validate_queries(arrays["camera_m"], arrays["view_dir"], arrays["sun_dir"], bottom_radius_m)
+
+
+def site_queries(bottom_radius_m: float, latitude: float = 0.0, longitude: float = 0.0, altitude: float = 1.7,
+                 sun_elevation: float = 30.0, sun_azimuth: float = 180.0, elevations=(90.0, 45.0, 10.0, 2.0),
+                 azimuths=(0.0, 90.0, 180.0, 270.0)) -> Queries:
+    """Queries from one site: a camera ``altitude`` [m] above the ground at ``latitude``, ``longitude``
+    [deg], looking at every pair of ``elevations`` x ``azimuths`` [deg, azimuth from north through east]
+    (once only at the zenith), the sun at ``sun_elevation``, ``sun_azimuth`` [deg] seen from the site.
+
+    Example
+    -------
+    >>> from planetviz.queries import site_queries
+    >>> q = site_queries(6360e3, elevations=(90, 10), azimuths=(0, 180))
+    >>> q.camera_m.shape
+    (3, 3)
+    """
+    from .geometry import local_frame, site_direction
+    for name, value, lo, hi in (("latitude", latitude, -90.0, 90.0), ("longitude", longitude, -360.0, 360.0),
+                                ("altitude", altitude, 0.0, np.inf), ("sun_elevation", sun_elevation, -90.0, 90.0),
+                                ("sun_azimuth", sun_azimuth, -360.0, 360.0)):
+        if not (np.isfinite(value) and lo <= value <= hi):
+            raise ValueError(f"{name}: must be in [{lo:g}, {hi:g}], got {value!r}")
+    for name, values, lo, hi in (("elevations", elevations, -90.0, 90.0), ("azimuths", azimuths, -360.0, 360.0)):
+        values = np.asarray(values, dtype=float)
+        if values.size == 0 or not np.all(np.isfinite(values) & (values >= lo) & (values <= hi)):
+            raise ValueError(f"{name}: one or more values in [{lo:g}, {hi:g}] deg, got {[float(v) for v in np.ravel(values)]}")
+    pairs = [(e, a) for e in elevations for a in (azimuths if e != 90.0 else azimuths[:1])]
+    up = local_frame(latitude, longitude)[0]
+    camera = np.repeat(((bottom_radius_m + altitude) * up)[None], len(pairs), axis=0)
+    view = np.array([site_direction(e, a, latitude, longitude) for e, a in pairs])
+    sun = site_direction(sun_elevation, sun_azimuth, latitude, longitude)
+    return validate_queries(camera, view, sun, bottom_radius_m)

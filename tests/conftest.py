@@ -1,10 +1,18 @@
 """Test configuration: off-screen rendering through OSMesa (set before VTK is imported), and a table cache
-of the test run's own, so that tests never read or fill the user's ~/.cache/planetviz."""
+of the test run's own, so that tests never read or fill the user's ~/.cache/planetviz; it is removed when
+the run ends."""
 import os
+import shutil
 import tempfile
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-os.environ["PLANETVIZ_CACHE"] = tempfile.mkdtemp(prefix="planetviz-test-cache-")
+TABLE_CACHE = tempfile.mkdtemp(prefix="planetviz-test-cache-")
+os.environ["PLANETVIZ_CACHE"] = TABLE_CACHE
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """Remove the run's table cache (about 200 MB after the whole suite)."""
+    shutil.rmtree(TABLE_CACHE, ignore_errors=True)
 
 
 def stored_reference(tag, atm, cameras, views, sun, samples, seed):

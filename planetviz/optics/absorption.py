@@ -7,7 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-DATA = Path(__file__).resolve().parents[2] / "assets" / "data"
+from ..resources import asset_dir
+
+DATA = asset_dir("data")
 DOBSON_UNIT = 2.6867e20  # molecules/m^2
 
 

@@ -1,16 +1,16 @@
-"""GLSL sources: the files in the repository's ``shaders/`` folder."""
+"""GLSL sources: the files of ``shaders/`` (:func:`planetviz.resources.shader_dir`)."""
 from __future__ import annotations
 
-from pathlib import Path
+from ..resources import shader_dir
 
-SHADERS = Path(__file__).resolve().parents[2] / "shaders"
+SHADERS = shader_dir()
 
 
 def load_shader(name: str) -> str:
     """The text of ``shaders/<name>``; a clear error when the file is missing."""
     path = SHADERS / name
     if not path.is_file():
-        raise FileNotFoundError(f"shader {name!r} not found in {SHADERS} (is the repository complete?)")
+        raise FileNotFoundError(f"shader {name!r} not found in {SHADERS} (is the installation complete?)")
     return path.read_text()
 
 

@@ -6,7 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-TEXTURES = Path(__file__).resolve().parents[2] / "assets" / "textures"
+from ..resources import asset_dir
+
+TEXTURES = asset_dir("textures")
 
 #: Texture file per planet, by the start of the atmosphere's name.
 PLANET_TEXTURES = {"earth": "earth.jpg", "mars": "mars.png"}
