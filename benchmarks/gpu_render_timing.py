@@ -38,13 +38,13 @@ def prepare(path):
     from planetviz.render.surface import surface_texture
     atm = load_atmosphere("earth")
     tables = precompute(atm, QUALITY["standard"], cache=TableCache())
-    from planetviz.render.fallback_actor import FallbackActor
+    from planetviz.render.quick_view_actor import QuickViewActor
     surface = surface_texture(atm)
     static = TableTextures(atm, tables, surface).static_uniforms()
     static = {k: (kind, np.asarray(v).tolist()) for k, (kind, v) in static.items()}
     quick = {}
     for n in (4, 8, 16):
-        u = FallbackActor.static_uniforms(SimpleNamespace(atmosphere=atm, terms="physical", sampling="power",
+        u = QuickViewActor.static_uniforms(SimpleNamespace(atmosphere=atm, terms="physical", sampling="power",
                                                            samples=n, density_samples=n))
         quick[n] = {k: (kind, np.asarray(v).tolist()) for k, (kind, v) in u.items()}
     np.savez_compressed(path, bottom=tables.bottom, top=tables.top, static=json.dumps(static),
@@ -72,12 +72,12 @@ class _PreparedActor:
 
 
 class _PreparedQuick:
-    """A FallbackActor whose constant uniforms come from the prepared file."""
+    """A QuickViewActor whose constant uniforms come from the prepared file."""
 
     def __new__(cls, data, renderer, n):
-        from planetviz.render.fallback_actor import FallbackActor
+        from planetviz.render.quick_view_actor import QuickViewActor
 
-        class Prepared(FallbackActor):
+        class Prepared(QuickViewActor):
             def static_uniforms(self):
                 return {k: (kind, v) for k, (kind, v) in json.loads(str(data["quick"]))[str(n)].items()}
 

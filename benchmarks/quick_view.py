@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from tables_pareto import errors, query_set, reference  # noqa: E402
 
 from planetviz import load_atmosphere  # noqa: E402
-from planetviz.fallback import fallback_radiance  # noqa: E402
+from planetviz.quick_view import quick_view_radiance  # noqa: E402
 from planetviz.reference import single_scattering  # noqa: E402
 
 SAMPLES = (3, 4, 6, 8, 12, 16, 24, 32)
@@ -51,7 +51,7 @@ def accuracy(presets, plot):
         for sampling in ("power", "equidistant"):
             for n in SAMPLES:
                 t0 = time.perf_counter()
-                L, _ = fallback_radiance(atm, *q[:3], samples=n, sampling=sampling)
+                L, _ = quick_view_radiance(atm, *q[:3], samples=n, sampling=sampling)
                 ms = 1e3 * (time.perf_counter() - t0) / len(L) * 1000
                 row = (rms(L, single, day), rms(L, single, dusk), errors(L, full, stderr, day)[0],
                        errors(L, full, stderr, dusk)[0])
@@ -92,7 +92,7 @@ def frame_times(size, frames):
     print(f"\n| quick view, {size} | ms per frame (median of {frames}) | vertices |")
     print("|---|---|---|")
     for n in (4, 8, 16):
-        scene = Scene("earth", off_screen=True, window_size=(w, h), method="fallback", quick_samples=n)
+        scene = Scene("earth", off_screen=True, window_size=(w, h), method="quick", quick_samples=n)
         scene.view_from_ground(latitude=45, heading=90, pitch=5)
         scene.screenshot()
         ms = frame_ms(scene, frames)

@@ -6,11 +6,11 @@
     planetviz queries    [--atmosphere A] --out Q.npz [--latitude DEG] [--longitude DEG] [--altitude M]
                          [--sun-elevation DEG] [--sun-azimuth DEG] [--elevations DEG ...] [--azimuths DEG ...]
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
-                         [--method reference|lut|fallback] [--quality draft|standard|high] [--no-cache]
+                         [--method reference|tables|quick] [--quality draft|standard|high] [--no-cache]
                          [--samples N]
     planetviz render     [--atmosphere|--preset A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
                          [--size WxH] [--screenshot OUT.png] [--exr OUT.exr] [--quality Q]
-                         [--method tables|fallback] [--samples N] [--sweep-sun A B STEP | --flight N]
+                         [--method tables|quick] [--samples N] [--sweep-sun A B STEP | --flight N]
                          [--fisheye DOME.png|.exr] [--panorama SKY.exr]   (planetviz/render_cli.py)
 
 Tables are cached in $PLANETVIZ_CACHE (default ~/.cache/planetviz) as OpenEXR files; --no-cache
@@ -67,18 +67,18 @@ def _table_cache(args):
 
 
 def _solve(atm, queries, method, quality, samples, seed, cache=None):
-    if method == "lut":
+    if method == "tables":
         from .reference import ReferenceResult
         from .tables.evaluator import sky_radiance
         from .tables.precompute import QUALITY, precompute
         radiance, transmittance = sky_radiance(precompute(atm, QUALITY[quality], cache=cache), atm,
                                                queries.camera_m, queries.view_dir, queries.sun_dir)
         return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, 0)
-    if method == "fallback":
-        from .fallback import fallback_radiance
+    if method == "quick":
+        from .quick_view import quick_view_radiance
         from .reference import ReferenceResult
         n = 8 if samples is None else samples
-        radiance, transmittance = fallback_radiance(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
+        radiance, transmittance = quick_view_radiance(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
                                                     samples=n)
         return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, n)
     from .reference import solve
@@ -91,12 +91,12 @@ def _cmd_radiance(args) -> int:
     atm = load_atmosphere(args.atmosphere)
     queries = load_queries(args.queries, atm.bottom_radius_m)
     result = _solve(atm, queries, args.method, args.quality, args.samples, args.seed,
-                    cache=_table_cache(args) if args.method == "lut" else None)
+                    cache=_table_cache(args) if args.method == "tables" else None)
     extra = {"radiance_stderr": result.stderr} if args.method == "reference" else {}
     np.savez(args.out, radiance=result.radiance, transmittance=result.transmittance,
              wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **extra)
-    how = {"reference": f"{result.samples} paths per ray", "lut": f"{args.quality} tables",
-           "fallback": f"{result.samples} samples per path, single scattering"}[args.method]
+    how = {"reference": f"{result.samples} paths per ray", "tables": f"{args.quality} tables",
+           "quick": f"{result.samples} samples per path, single scattering"}[args.method]
     print(f"wrote {args.out}: {len(queries.camera_m)} rays x {atm.n_wavelengths} wavelengths ({args.method}, {how})")
     return 0
 
@@ -216,12 +216,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--atmosphere", required=True, help=f"preset ({presets}) or JSON file")
     p.add_argument("--queries", required=True, help="npz with camera_m, view_dir, sun_dir")
     p.add_argument("--out", required=True, help="output npz (radiance, transmittance, wavelengths_nm)")
-    p.add_argument("--method", choices=("reference", "lut", "fallback"), default="reference")
+    p.add_argument("--method", choices=("reference", "tables", "quick"), default="reference")
     p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
     p.add_argument("--samples", type=int, default=None,
-                   help="reference: paths per ray (overrides --quality); fallback: points per path (default 8)")
+                   help="reference: paths per ray (overrides --quality); quick: points per path (default 8)")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache (lut)")
+    p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache (tables)")
     p.set_defaults(func=_cmd_radiance)
 
     p = sub.add_parser("render", help="render the planet off-screen: PNG, OpenEXR, batches, dome, panorama")

@@ -315,7 +315,7 @@ class PlanetApp:
         return True
 
     def toggle_renderer(self):
-        method = "fallback" if self.scene.renderer_in_use == "tables" else "tables"
+        method = "quick" if self.scene.renderer_in_use == "tables" else "tables"
         self.scene.set_method(method)
         self.refresh()
 
@@ -364,7 +364,7 @@ class PlanetApp:
 
     def poll(self, step=None):
         """Timer callback: show finished tables and the precompute progress."""
-        if self.scene.precompute_progress is not None or self.scene.renderer_in_use == "fallback":
+        if self.scene.precompute_progress is not None or self.scene.renderer_in_use == "quick":
             self.refresh()
 
 

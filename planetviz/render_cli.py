@@ -48,14 +48,14 @@ def add_render_options(p):
     p.add_argument("--exposure", type=float, default=1e-4, help="multiplies linear sRGB in cd/m^2")
     p.add_argument("--tone-mapping", choices=("exponential", "filmic", "clamp"), default="exponential")
     p.add_argument("--uniform-albedo", action="store_true", help="the atmosphere's ground albedo, no texture")
-    p.add_argument("--method", choices=("tables", "fallback"), default="tables",
+    p.add_argument("--method", choices=("tables", "quick"), default="tables",
                    help="tables (all orders) or the quick view (single scattering, no precompute)")
     p.add_argument("--shading", choices=("pixel", "vertex", "auto"), default=None,
                    help="tables read per pixel or per vertex (auto: per vertex on a software OpenGL); "
                         "default: pixel for pictures, auto for the window")
-    p.add_argument("--samples", type=int, default=8, help="fallback: points per path")
+    p.add_argument("--samples", type=int, default=8, help="quick: points per path")
     p.add_argument("--terms", choices=("physical", "artistic"), default="physical",
-                   help="fallback: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
+                   help="quick: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
     p.add_argument("--size", type=_size, default=(960, 540), help="WIDTHxHEIGHT")
     p.add_argument("--screenshot", default=None, help="PNG of the tone-mapped view (batch: the name's stem)")
     p.add_argument("--exr", default=None, help="OpenEXR of the linear radiance (batch: the name's stem)")

@@ -118,7 +118,7 @@ def test_advanced_mode_sliders_act_on_the_physical_quantities():
         after = np.asarray(scene.atmosphere.rayleigh.scattering_m)
         n2 = 1 + 2 * (n - 1)
         assert np.allclose(after / before, ((n2 ** 2 - 1) / (n ** 2 - 1)) ** 2, rtol=1e-6)
-        assert scene.renderer_in_use == "fallback"             # new tables are being computed
+        assert scene.renderer_in_use == "quick"             # new tables are being computed
         scene.wait_for_tables(120)
         assert scene.renderer_in_use == "tables"
     finally:

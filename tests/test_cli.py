@@ -79,9 +79,9 @@ def test_missing_and_corrupt_query_files(tmp_path):
     assert proc.returncode == 2 and "missing array 'view_dir'" in proc.stderr
 
 
-def test_fallback_sample_count_out_of_range_is_refused_clearly(tmp_path):
+def test_quick_view_sample_count_out_of_range_is_refused_clearly(tmp_path):
     q = write_queries(tmp_path / "q.npz", [[0, 0, R + 10]], [[0, 0, 1]], [0, 0, 1])
-    proc = run("radiance", "--atmosphere", "earth", "--queries", q, "--out", tmp_path / "o.npz", "--method", "fallback",
+    proc = run("radiance", "--atmosphere", "earth", "--queries", q, "--out", tmp_path / "o.npz", "--method", "quick",
                "--samples", "0")
     assert proc.returncode == 2 and "samples: an integer in [1, 256]" in proc.stderr
     assert "Traceback" not in proc.stderr

@@ -8,7 +8,7 @@ import pytest
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
 from planetviz import load_atmosphere  # noqa: E402
-from planetviz.fallback import fallback_radiance  # noqa: E402
+from planetviz.quick_view import quick_view_radiance  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 from planetviz.render.direction_mesh import direction_mesh  # noqa: E402
 
@@ -17,7 +17,7 @@ SIZE = (64, 48)
 
 @pytest.fixture(scope="module")
 def quick():
-    scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE, method="fallback")
+    scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE, method="quick")
     yield scene
     scene.close()
 
@@ -52,7 +52,7 @@ def test_vertex_shader_matches_its_numpy_twin(quick, view):
     finally:
         quick.quick_terms = "physical"
         quick.set_atmosphere(quick.atmosphere)
-    want, _ = fallback_radiance(quick.atmosphere, np.tile(quick.camera_location, (len(dirs), 1)), dirs,
+    want, _ = quick_view_radiance(quick.atmosphere, np.tile(quick.camera_location, (len(dirs), 1)), dirs,
                                 quick.sun_direction, samples=quick.quick_samples, terms=terms)
     seen = want.max(-1) > 0
     assert seen.sum() > 50 and np.array_equal(got.max(-1) > 0, seen)
@@ -92,7 +92,7 @@ def test_a_change_that_needs_tables_shows_the_quick_view_until_they_are_ready():
         # A new albedo needs new multiple-scattering tables: the quick view at once, tables in the background.
         brighter = earth.replace(ground_albedo=[0.6, 0.6, 0.6])
         scene.set_atmosphere(brighter)
-        assert scene.renderer_in_use == "fallback"
+        assert scene.renderer_in_use == "quick"
         assert scene.precompute_progress is not None
         quick_image = scene.render_hdr().radiance
         assert np.all(np.isfinite(quick_image)) and quick_image.max() > 0

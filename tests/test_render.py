@@ -27,14 +27,14 @@ def mars():
     scene.close()
 
 
-def lut_radiance(scene, preset, rows, cols, tmp_path):
-    """``planetviz radiance --method lut`` for the rays of the given pixels (same quality, same cached tables)."""
+def tables_radiance(scene, preset, rows, cols, tmp_path):
+    """``planetviz radiance --method tables`` for the rays of the given pixels (same quality, same cached tables)."""
     dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
     q, out = tmp_path / "q.npz", tmp_path / "out.npz"
     np.savez(q, camera_m=np.tile(scene.camera_location, (len(dirs), 1)), view_dir=dirs,
              sun_dir=scene.sun_direction)
     proc = subprocess.run([sys.executable, "-m", "planetviz", "radiance", "--atmosphere", preset,
-                           "--queries", q, "--out", out, "--method", "lut", "--quality", "draft"],
+                           "--queries", q, "--out", out, "--method", "tables", "--quality", "draft"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     with np.load(out) as f:
@@ -42,12 +42,12 @@ def lut_radiance(scene, preset, rows, cols, tmp_path):
 
 
 def shader_matches_lut(scene, preset, tmp_path):
-    """The largest relative difference between the rendered HDR radiance and the lut command's on a grid of
+    """The largest relative difference between the rendered HDR radiance and the tables command's on a grid of
     pixels away from the sun, after checking that both see the planet in the same pixels."""
     hdr = scene.render_hdr()
     rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
     keep = away_from_sun(scene, rows, cols)
-    lut = lut_radiance(scene, preset, rows, cols, tmp_path).reshape(rows.shape + (3,))
+    lut = tables_radiance(scene, preset, rows, cols, tmp_path).reshape(rows.shape + (3,))
     got = hdr.radiance[rows, cols]
     seen = lut.max(-1) > 0
     assert keep.sum() > 100 and (seen & keep).sum() > 50
@@ -62,7 +62,7 @@ def away_from_sun(scene, rows, cols, degrees=1.0):
 
 @pytest.mark.parametrize("view", ["space", "ground", "aircraft", "twilight", "horizon"])
 def test_shader_radiance_matches_the_lut_command(earth, view, tmp_path):
-    # The shader and `planetviz radiance --method lut` evaluate the same formulas on the same float32 tables;
+    # The shader and `planetviz radiance --method tables` evaluate the same formulas on the same float32 tables;
     # they differ by the shader's float32 arithmetic (ray set-up, the near-horizon mu mapping, S(x) - T S(y))
     # and, on GPUs, by texture filtering with 8-bit interpolation weights (an error of at most 1/512 of the
     # difference between neighbouring texels, well under 1% for tables that change less than a factor 2 per
@@ -235,7 +235,7 @@ def test_a_planet_far_away_is_drawn_and_matches_the_lut(earth, tmp_path):
     earth.set_sun(elevation=60, azimuth=90)
     hdr = earth.render_hdr()
     rows, cols = np.meshgrid(np.arange(0, SIZE[1], 3), np.arange(0, SIZE[0], 3), indexing="ij")
-    lut = lut_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
+    lut = tables_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
     got = hdr.radiance[rows, cols]
     seen = lut.max(-1) > 0
     assert seen.sum() > 30 and np.array_equal(got.max(-1) > 0, seen)

@@ -18,7 +18,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from planetviz import load_atmosphere
-from planetviz.fallback import fallback_radiance
+from planetviz.quick_view import quick_view_radiance
 from planetviz.reference import solve
 from planetviz.reference.single import single_scattering
 from planetviz.tables import QUALITY, precompute
@@ -46,7 +46,7 @@ def _check(radiance, transmittance):
 
 def _both(cams, views, sun):
     for f in (lambda: sky_radiance(TABLES, EARTH, cams, views, sun),
-              lambda: fallback_radiance(EARTH, cams, views, sun, samples=6)):
+              lambda: quick_view_radiance(EARTH, cams, views, sun, samples=6)):
         yield f()
 
 
@@ -470,7 +470,7 @@ def test_no_seam_at_the_horizon_beyond_the_tables_interpolation_error(quality, a
 ])
 def test_bad_queries_are_refused_by_name(camera, view, sun, word):
     for f in (lambda: sky_radiance(TABLES, EARTH, camera, view, sun),
-              lambda: fallback_radiance(EARTH, camera, view, sun)):
+              lambda: quick_view_radiance(EARTH, camera, view, sun)):
         with pytest.raises(ValueError, match=re.escape(word)):
             f()
 
@@ -559,7 +559,7 @@ def test_atmospheres_at_the_edges_give_finite_non_negative_radiance(name):
                 views.append(view / np.linalg.norm(view))
                 suns.append(sun / np.linalg.norm(sun))
     for radiance, transmittance in (sky_radiance(tables, atm, cams, views, suns),
-                                    fallback_radiance(atm, cams, views, suns, samples=6)):
+                                    quick_view_radiance(atm, cams, views, suns, samples=6)):
         _check(radiance, transmittance)
     # Transmittance along 200 random rays never increases (the property above; bound: float64 rounding), except
     # with 10 m scale heights: the table's rows are 240 m apart there, and interpolating across them reads up to

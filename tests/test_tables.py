@@ -334,7 +334,7 @@ def test_precompute_and_lut_commands(tmp_path):
     np.savez(q, camera_m=[[0, 0, B + 2.0], [0, 0, 1e12]], view_dir=[[0, 0, 1.0], [0, 0, -1.0]], sun_dir=[0, 0.5, 0.866])
     out = tmp_path / "o.npz"
     proc = subprocess.run([sys.executable, "-m", "planetviz", "radiance", "--atmosphere", "earth", "--queries", q,
-                           "--out", out, "--method", "lut", "--quality", "draft"], capture_output=True, text=True)
+                           "--out", out, "--method", "tables", "--quality", "draft"], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     with np.load(out) as o:
         assert o["radiance"].shape == (2, 3) and np.all(o["radiance"] > 0)

@@ -199,7 +199,7 @@ def test_auto_shading_reads_per_vertex_on_a_software_renderer():
         Scene("earth", quality="draft", off_screen=True, window_size=SIZE, shading="gouraud")
 
 
-@pytest.mark.parametrize("method,shading", [("tables", "vertex"), ("fallback", "pixel")])
+@pytest.mark.parametrize("method,shading", [("tables", "vertex"), ("quick", "pixel")])
 def test_interpolation_never_extrapolates_below_zero(method, shading):
     # Found by the app's generated input (tests/test_app.py): from orbit, with no Rayleigh scattering and the sun
     # just below the horizon, one pixel at the top of the atmosphere's limb read -3e-4 in the float read-back:
@@ -231,7 +231,7 @@ def test_an_actor_taken_out_of_the_scene_stops_rebuilding_its_mesh(vertex):
         assert old._mesh_key == key and not old._observers
     finally:
         vertex.set_shading("vertex")
-    quick = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE, method="fallback")
+    quick = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE, method="quick")
     try:
         first = quick.quick
         quick.set_atmosphere(quick.atmosphere)             # a new quick view replaces the first

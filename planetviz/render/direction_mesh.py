@@ -1,5 +1,5 @@
 """The adaptive sphere of view directions around the camera, and the base of the actors that evaluate a model at
-its vertices (the quick view, shaders/fallback_vertex.glsl, and the per-vertex table renderer,
+its vertices (the quick view, shaders/quick_view_vertex.glsl, and the per-vertex table renderer,
 shaders/atmosphere_vertex.glsl).
 
 The mesh is a sphere of directions centred on the camera (drawn at mid-depth: at its true distance a 16-bit

@@ -21,7 +21,7 @@ from ..optics.light import star_irradiance
 from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.precompute import QUALITY, precompute
 from .atmosphere_actor import AtmosphereActor
-from .fallback_actor import FallbackActor
+from .quick_view_actor import QuickViewActor
 from .hdr import render_spectral, write_exr
 from .surface import surface_texture
 from .uniforms import TONE_MAPPINGS, DisplaySettings, camera_uniforms
@@ -83,7 +83,7 @@ class Scene(pv.Plotter):
     tone_mapping : str
         ``"exponential"`` (the paper's 1 - exp(-x)), ``"filmic"`` or ``"clamp"``.
     method : str
-        ``"tables"`` (precomputed multiple scattering) or ``"fallback"`` (the quick view: single scattering per
+        ``"tables"`` (precomputed multiple scattering) or ``"quick"`` (the quick view: single scattering per
         vertex, no precompute).
     shading : str
         How the tables are read: ``"pixel"`` (every pixel, the paper's Algorithm 1), ``"vertex"`` (the 4D
@@ -138,12 +138,12 @@ class Scene(pv.Plotter):
     # --------------------------------------------------------------------------------------------- planet
     def add_planet(self, atmosphere="earth", quality="standard", surface="texture", cache=True, method="tables"):
         """Set the planet: precompute (or load) its tables and show them (``method="tables"``), or show the
-        quick view (``"fallback"``, no tables). Returns the actor shown."""
+        quick view (``"quick"``, no tables). Returns the actor shown."""
         atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
         if quality not in QUALITY:
             raise ValueError(f"quality: one of {', '.join(QUALITY)}, got {quality!r}")
-        if method not in ("tables", "fallback"):
-            raise ValueError(f"method: tables or fallback, got {method!r}")
+        if method not in ("tables", "quick"):
+            raise ValueError(f"method: tables or quick, got {method!r}")
         self._atmosphere, self._quality, self._cache = atm, quality, cache
         self._surface = surface_texture(atm) if isinstance(surface, str) and surface == "texture" else surface
         self._drop_actors()
@@ -182,7 +182,7 @@ class Scene(pv.Plotter):
             self._show_tables(tables)
 
     def set_method(self, method):
-        """Show the tables (``"tables"``) or the quick view (``"fallback"``) of the current planet."""
+        """Show the tables (``"tables"``) or the quick view (``"quick"``) of the current planet."""
         return self.add_planet(self._atmosphere, quality=self._quality, surface=self._surface, cache=self._cache,
                                method=method)
 
@@ -194,7 +194,7 @@ class Scene(pv.Plotter):
         atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
         old = self._atmosphere
         self._atmosphere = atm
-        if self._method == "fallback":
+        if self._method == "quick":
             self._drop_actors()
             self._show_quick()
             return
@@ -218,8 +218,8 @@ class Scene(pv.Plotter):
 
     @property
     def renderer_in_use(self):
-        """``"tables"`` or ``"fallback"``: what the next frame shows."""
-        return "tables" if self.planet is not None else "fallback"
+        """``"tables"`` or ``"quick"``: what the next frame shows."""
+        return "tables" if self.planet is not None else "quick"
 
     @property
     def precompute_progress(self):
@@ -268,7 +268,7 @@ class Scene(pv.Plotter):
         self.renderer.ResetCameraClippingRange()     # the previous actor's bounds may have set it
 
     def _show_quick(self):
-        self.quick = FallbackActor(self._atmosphere, self.renderer, samples=self.quick_samples,
+        self.quick = QuickViewActor(self._atmosphere, self.renderer, samples=self.quick_samples,
                                    terms=self.quick_terms, settings=self.settings)
         self.quick.sun_direction = self._sun
         self.add_actor(self.quick.actor, reset_camera=False, name="quick-view")
@@ -290,7 +290,7 @@ class Scene(pv.Plotter):
     @property
     def active_actor(self):
         """The actor drawing the planet now (:class:`AtmosphereActor`, :class:`VertexAtmosphereActor` or
-        :class:`FallbackActor`)."""
+        :class:`QuickViewActor`)."""
         return self.planet if self.planet is not None else self.quick
 
     # ------------------------------------------------------------------------------------------------ sun

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from planetviz import load_atmosphere
-from planetviz.fallback import fallback_radiance, sample_fractions
+from planetviz.quick_view import quick_view_radiance, sample_fractions
 from planetviz.reference import single_scattering
 
 EARTH = load_atmosphere("earth")
@@ -35,8 +35,8 @@ def test_converges_to_the_single_scattering_integral():
     cams, views, sun = rays()
     a, g = single_scattering(EARTH, cams, views, sun, panels=48)
     ref = a + g
-    fine, _ = fallback_radiance(EARTH, cams, views, sun, samples=32)
-    coarse, _ = fallback_radiance(EARTH, cams, views, sun, samples=4)
+    fine, _ = quick_view_radiance(EARTH, cams, views, sun, samples=32)
+    coarse, _ = quick_view_radiance(EARTH, cams, views, sun, samples=4)
     assert np.max(np.abs(fine - ref) / ref) < 0.01
     assert np.max(np.abs(coarse - ref) / ref) > 0.02
 
@@ -48,7 +48,7 @@ def test_power_sampling_beats_equidistant_at_equal_cost():
     ref = a + g
     err = {}
     for sampling in ("power", "equidistant"):
-        L, _ = fallback_radiance(EARTH, cams, views, sun, samples=8, sampling=sampling)
+        L, _ = quick_view_radiance(EARTH, cams, views, sun, samples=8, sampling=sampling)
         err[sampling] = np.sqrt(np.mean(((L - ref) / ref) ** 2))
     assert err["power"] < 0.5 * err["equidistant"], err
 
@@ -58,7 +58,7 @@ def test_transmittance_and_space():
     # transmittance of the whole chord (exact for an exponential atmosphere through the centre: up and down).
     cams = np.array([[0, 0, 10 * R], [0, 0, 10 * R]])
     views = np.array([[1.0, 0, 0], [0, 0, -1.0]])
-    L, T = fallback_radiance(EARTH, cams, views, [0, 0, 1.0], samples=64)
+    L, T = quick_view_radiance(EARTH, cams, views, [0, 0, 1.0], samples=64)
     assert np.all(L[0] == 0) and np.all(T[0] == 1)
     tau = EARTH.vertical_optical_depth()
     assert np.allclose(T[1], np.exp(-tau), rtol=2e-3)
@@ -67,14 +67,14 @@ def test_transmittance_and_space():
 def test_artistic_terms_follow_table_1():
     # Table 1 of Keller and Bohn: molecular scattering scaled by (lambda_red / lambda)^4 from the longest
     # wavelength, so the artistic and physical coefficients agree at the red end only.
-    from planetviz.fallback import _coefficients
+    from planetviz.quick_view import _coefficients
     b_r, b_m, _ = _coefficients(EARTH, "artistic")
     wl = np.asarray(EARTH.wavelengths_nm)
     assert np.isclose(b_r[0], EARTH.rayleigh.scattering_m[0])
     assert np.allclose(b_r / b_r[0], (wl[0] / wl) ** 4)
     assert np.allclose(b_m / b_m[0], (wl[0] / wl) ** 2)
     cams, views, sun = rays()
-    L, _ = fallback_radiance(EARTH, cams, views, sun, samples=8, terms="artistic")
+    L, _ = quick_view_radiance(EARTH, cams, views, sun, samples=8, terms="artistic")
     assert np.all(np.isfinite(L)) and np.all(L >= 0)
 
 
@@ -83,17 +83,17 @@ def test_artistic_terms_follow_table_1():
 def test_bad_settings_are_refused_by_name(kwargs, word):
     cams, views, sun = rays()
     with pytest.raises(ValueError, match=word):
-        fallback_radiance(EARTH, cams, views, sun, **kwargs)
+        quick_view_radiance(EARTH, cams, views, sun, **kwargs)
 
 
-def test_fallback_command(tmp_path):
+def test_quick_view_command(tmp_path):
     cams, views, sun = rays()
     q, out = tmp_path / "q.npz", tmp_path / "o.npz"
     np.savez(q, camera_m=cams, view_dir=views, sun_dir=sun)
     proc = subprocess.run([sys.executable, "-m", "planetviz", "radiance", "--atmosphere", "earth", "--queries", q,
-                           "--out", out, "--method", "fallback", "--samples", "12"], capture_output=True, text=True)
+                           "--out", out, "--method", "quick", "--samples", "12"], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     with np.load(out) as f:
         # The command re-normalises the directions (a 1e-4 change); 12 points, not the default 8 (2% apart).
-        assert np.allclose(f["radiance"], fallback_radiance(EARTH, cams, views, sun, samples=12)[0], rtol=1e-3)
-        assert not np.allclose(f["radiance"], fallback_radiance(EARTH, cams, views, sun, samples=8)[0], rtol=1e-3)
+        assert np.allclose(f["radiance"], quick_view_radiance(EARTH, cams, views, sun, samples=12)[0], rtol=1e-3)
+        assert not np.allclose(f["radiance"], quick_view_radiance(EARTH, cams, views, sun, samples=8)[0], rtol=1e-3)

@@ -1,5 +1,5 @@
 // Quick view: Keller and Bohn's single scattering computed per vertex, with no tables (after common.glsl).
-// The GLSL twin of planetviz/fallback.py (same sampling, same names): for the direction from the camera to the
+// The GLSL twin of planetviz/quick_view.py (same sampling, same names): for the direction from the camera to the
 // vertex, L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i plus the sunlit ground, with the
 // midpoint rule on (i / n)^view_exponent and each optical depth on (j / m)^density_exponent.
 //
@@ -20,14 +20,14 @@
 //                                 altitudes from 0 to the top, read linearly
 //   component_table        float[MAX_COMPONENTS * PROFILE_TABLE_SIZE]
 //   artistic_terms         int    1: Table 1's phases 1 + 0.5 nu^2 and HG without 1 / (4 pi) (coefficients are
-//                                 uploaded already scaled, planetviz/fallback.py _coefficients)
+//                                 uploaded already scaled, planetviz/quick_view.py _coefficients)
 //   surface_albedo         vec4[MAX_GROUPS]  ground albedo per wavelength
 //   rgb_weights            vec4[3 MAX_GROUPS]  linear sRGB of group g = dot(rgb_weights[3g + c], L_g) (as in
 //                                 atmosphere_fragment.glsl)
 //   output_mode            int    0 and 2: linear sRGB; 1: the radiance at wavelengths 3k .. 3k + 2
 //                                 (k = output_triple) per unit solar irradiance [1/sr]
 //   output_triple          int    k of output_mode 1
-// Output: fallback_value (vec3), interpolated over the triangles.
+// Output: quick_view_value (vec3), interpolated over the triangles.
 
 #define MAX_COMPONENTS 6
 #define PROFILE_TABLE_SIZE 64
@@ -51,7 +51,7 @@ uniform vec4 rgb_weights[3 * MAX_GROUPS];
 uniform int output_mode;
 uniform int output_triple;
 
-out vec3 fallback_value;
+out vec3 quick_view_value;
 
 // Density of component k at altitude h (its profile, 1 at its reference altitude).
 float profile_density(int k, float h) {
@@ -98,7 +98,7 @@ bool in_shadow(vec3 p) {
 }
 
 // Single-scattered radiance of group g along v from the camera, per unit solar irradiance [1/sr].
-vec4 fallback_radiance(vec3 v, int g) {
+vec4 quick_view_radiance(vec3 v, int g) {
     vec3 x = camera_position;
     float a = camera_altitude;
     float mu = dot(x, v) / radius_of(a);
@@ -150,20 +150,20 @@ vec4 fallback_radiance(vec3 v, int g) {
     return l;
 }
 
-void fallback_vertex(vec3 vertex_position) {
+void quick_view_vertex(vec3 vertex_position) {
     vec3 v = normalize(vertex_position - camera_position);
     if (output_mode == 1) {
         int first = 3 * output_triple;
         for (int k = 0; k < 3; ++k) {
             int i = first + k;
-            fallback_value[k] = fallback_radiance(v, i / 4)[i % 4];
+            quick_view_value[k] = quick_view_radiance(v, i / 4)[i % 4];
         }
         return;
     }
     vec3 rgb = vec3(0.0);
     for (int g = 0; g < group_count; ++g) {
-        vec4 l = fallback_radiance(v, g);
+        vec4 l = quick_view_radiance(v, g);
         rgb += vec3(dot(rgb_weights[3 * g], l), dot(rgb_weights[3 * g + 1], l), dot(rgb_weights[3 * g + 2], l));
     }
-    fallback_value = rgb;
+    quick_view_value = rgb;
 }

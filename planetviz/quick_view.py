@@ -88,7 +88,7 @@ def path_optical_depth(extinction, bottom, start, direction, length, m, exponent
     return tau * length[..., None]
 
 
-def fallback_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples=None, sampling="power",
+def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples=None, sampling="power",
                       terms="physical"):
     """(radiance (N, W), transmittance (N, W)) of single scattering along each ray (and the sunlit ground).
 
@@ -98,7 +98,7 @@ def fallback_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples
     -------
     >>> from planetviz import load_atmosphere
     >>> atm = load_atmosphere("earth")
-    >>> L, T = fallback_radiance(atm, [[0, 0, atm.bottom_radius_m + 2]], [[0, 0, 1]], [0, 0.5, 0.866])
+    >>> L, T = quick_view_radiance(atm, [[0, 0, atm.bottom_radius_m + 2]], [[0, 0, 1]], [0, 0.5, 0.866])
     >>> L.shape
     (1, 3)
     """

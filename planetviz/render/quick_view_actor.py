@@ -1,6 +1,6 @@
 """The quick view as one VTK actor (plain ``vtkmodules``): Keller and Bohn's single scattering computed per vertex
-of the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/fallback_vertex.glsl, the twin
-of planetviz/fallback.py), with no tables, so every atmosphere parameter takes effect at the next frame. Colours
+of the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/quick_view_vertex.glsl, the twin
+of planetviz/quick_view.py), with no tables, so every atmosphere parameter takes effect at the next frame. Colours
 are interpolated over the triangles and tone-mapped per fragment; the surface is the atmosphere file's uniform
 albedo.
 """
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..fallback import SAMPLING, _coefficients, check_settings
+from ..quick_view import SAMPLING, _coefficients, check_settings
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pad_groups
@@ -18,7 +18,7 @@ MAX_COMPONENTS = 6
 PROFILE_TABLE_SIZE = 64
 
 
-class FallbackActor(DirectionMeshActor):
+class QuickViewActor(DirectionMeshActor):
     """A VTK actor drawing the quick view of ``atmosphere`` for the renderer's active camera.
 
     ``samples`` / ``density_samples``: points n on each view path and m on each optical-depth path;
@@ -29,8 +29,8 @@ class FallbackActor(DirectionMeshActor):
         self.samples, self.density_samples = check_settings(samples, density_samples, sampling, terms)
         self.atmosphere = atmosphere
         self.sampling, self.terms = sampling, terms
-        super().__init__(atmosphere, renderer, shader_code("common.glsl", "fallback_vertex.glsl"), "fallback_vertex",
-                         shader_code("display.glsl", "fallback_fragment.glsl"), "fallback_fragment", settings=settings)
+        super().__init__(atmosphere, renderer, shader_code("common.glsl", "quick_view_vertex.glsl"), "quick_view_vertex",
+                         shader_code("display.glsl", "quick_view_fragment.glsl"), "quick_view_fragment", settings=settings)
 
     def static_uniforms(self):
         atm = self.atmosphere
