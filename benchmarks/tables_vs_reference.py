@@ -6,18 +6,17 @@ tests/test_tables.py::test_standard_tables_against_the_reference, per preset.
 Prints the tables' RMS relative error, the reference's RMS relative standard error beside it, and the
 three largest errors.
 """
-import sys
 from pathlib import Path
 
 import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference.montecarlo import QUALITY_SAMPLES
+from planetviz.reference.stored import stored_reference
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.precompute import QUALITY, precompute
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from conftest import stored_reference  # noqa: E402
+DATA = Path(__file__).resolve().parent / "data"
 
 
 def main():
@@ -29,13 +28,16 @@ def main():
                           [1, 0, 0], [0, 1, -0.3], [0.2, 0, -1], [0, 0, -1], [0.3, 0, -1], [0, 0.17, -1]], float)
         views /= np.linalg.norm(views, axis=1, keepdims=True)
         sun = np.array([0.5, 0.0, 0.866])
-        ref = stored_reference(f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
-        lut, _ = sky_radiance(precompute(atm, QUALITY["standard"]), atm, cams, views, sun)
-        rel = (lut - ref.radiance) / ref.radiance
+        ref = stored_reference(DATA, f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
+        tables, _ = sky_radiance(precompute(atm, QUALITY["standard"]), atm, cams, views, sun)
+        rel = (tables - ref.radiance) / ref.radiance
         noise = ref.stderr / ref.radiance
         worst = rel.ravel()[np.argsort(-np.abs(rel.ravel()))[:3]]
         print(f"{preset}: RMS {np.sqrt(np.mean(rel ** 2)):.4f} (reference noise RMS {np.sqrt(np.mean(noise ** 2)):.4f}, "
               f"max {noise.max():.4f}); largest {np.round(worst, 3)}")
+        for k in range(len(cams)):
+            print(f"  camera {cams[k, 2] - r:9.0f} m, view {np.round(views[k], 2)}: "
+                  + " ".join(f"{e:+.3f}" for e in rel[k]) + "  (noise " + " ".join(f"{x:.3f}" for x in noise[k]) + ")")
 
 
 if __name__ == "__main__":

@@ -3,10 +3,12 @@
 A stored result holds the radiance, its standard error and the view transmittance, with the atmosphere's
 parameters (JSON), the rays, the paths per ray, the seed and :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`.
 :func:`stored_solve` returns it while all of those match the request and recomputes (and rewrites) it when any
-differs or the file cannot be read.
+differs or the file cannot be read. :func:`stored_reference` names the file after a tag and the rays, for a
+folder of such results (the repository's benchmarks/data/ for its tests and benchmarks).
 """
 from __future__ import annotations
 
+import hashlib
 import os
 import zipfile
 from pathlib import Path
@@ -44,6 +46,13 @@ def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int =
              wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **wanted)
     os.replace(tmp, path)
     return res
+
+
+def stored_reference(folder, tag, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0) -> ReferenceResult:
+    """:func:`stored_solve` through ``folder/test-<tag>-<hash of the rays>.npz``."""
+    rays = np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (camera, view_dir, sun_dir)])
+    name = f"test-{tag}-{hashlib.sha1(rays.tobytes()).hexdigest()[:10]}.npz"
+    return stored_solve(Path(folder) / name, atm, camera, view_dir, sun_dir, samples=samples, seed=seed)
 
 
 def _load(path, wanted, rays):
