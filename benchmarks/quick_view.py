@@ -24,7 +24,7 @@ from tables_pareto import errors, query_set, reference  # noqa: E402
 
 from planetviz import load_atmosphere  # noqa: E402
 from planetviz.quick_view import quick_view_radiance  # noqa: E402
-from planetviz.reference import single_scattering  # noqa: E402
+from planetviz.reference import QUALITY_SAMPLES, single_scattering  # noqa: E402
 
 SAMPLES = (3, 4, 6, 8, 12, 16, 24, 32)
 
@@ -44,7 +44,7 @@ def accuracy(presets, plot):
         q = query_set(atm)
         a, g = single_scattering(atm, *q[:3], panels=48)
         single = a + g
-        full, stderr = reference(name, atm, q, 3000, 12000)
+        full, stderr = reference(name, atm, q, QUALITY_SAMPLES["standard"], QUALITY_SAMPLES["standard"])
         el = q[3][:, None]
         ok = (single > 1e-5) & (full > 1e-5)
         day, dusk = ok & (el >= 2), ok & (el < 2)

@@ -10,7 +10,7 @@ import pytest
 from conftest import stored_reference
 
 from planetviz import load_atmosphere
-from planetviz.reference import optical_depth, single_scattering, solve
+from planetviz.reference import optical_depth, single_scattering
 from planetviz.reference.montecarlo import QUALITY_SAMPLES
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_scattering, get_transmittance_to_sun
@@ -19,7 +19,8 @@ from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, mu_s_fr
                                                ray_intersects_ground,
                                                scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu,
                                                unit_range_from_texcoord)
-from planetviz.tables.precompute import QUALITY, precompute, scattering_grid
+from planetviz.tables.nodes import scattering_grid
+from planetviz.tables.precompute import QUALITY, precompute
 from planetviz.tables.sampling import _axis, texture2d
 
 

@@ -12,7 +12,7 @@ tables read the rays within 1e-2 (in mu) of the horizon's direction 1.3-2.0x as 
 How. Rays within ``HORIZON_BAND[1]`` of the horizon's direction mu_h = -sqrt(1 - (R_b / r)^2) integrate their
 single scattering as the precompute does (precompute.single_scattering_integral, with the tables'
 transmittances), on the two lit parts of the ray around the planet's shadow (near_ground.shadow_interval), with
-``HORIZON_SAMPLES`` Gauss-Legendre nodes on each side of each part's closest approach (precompute.ray_nodes): 32
+``HORIZON_SAMPLES`` Gauss-Legendre nodes on each side of each part's closest approach (nodes.ray_nodes): 32
 nodes at most. The result replaces the tables' reading within ``HORIZON_BAND[0]`` and blends into it by a
 smoothstep up to ``HORIZON_BAND[1]`` (:func:`horizon_share`), so the radiance stays continuous where the band
 ends. Against the reference quadrature (Earth, the seam test's rays from 2 m to 50 km, the sun 5-60 deg up): next
@@ -27,7 +27,8 @@ import numpy as np
 
 from .near_ground import shadow_interval
 from .parameterization import distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary
-from .precompute import is_optically_thick, ray_nodes, single_scattering_integral
+from .nodes import is_optically_thick, ray_nodes
+from .precompute import single_scattering_integral
 
 #: |mu - mu_h| within which the quadrature replaces the tables, and where its share has fallen to 0.
 HORIZON_BAND = (0.01, 0.03)
@@ -37,7 +38,7 @@ HORIZON_SAMPLES = 8
 
 def horizon_quadrature_applies(atm) -> bool:
     """Whether the evaluator and the shaders use this module for ``atm``: not where it is optically thick
-    (precompute.is_optically_thick). There the light next to the horizon comes from the first attenuation lengths
+    (nodes.is_optically_thick). There the light next to the horizon comes from the first attenuation lengths
     from the camera (hundreds of metres), between the nodes, which cluster at the closest approach: the thick test
     planet's single scattering just above the horizon read 54% off from 1 km (draft) where the tables read 7.7%."""
     return not is_optically_thick(atm)

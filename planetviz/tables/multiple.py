@@ -21,7 +21,7 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
 3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only), the particles'
    part renormalised for their lobe toward the sun (``lobe_irradiance_factors``);
 4. S_n(r, mu, mu_s, nu) = int_0^d T(x, x_t) J_n(r_t, mu_t, mu_s,t, nu) dt (J read from its table; Gauss-Legendre
-   nodes clustered at the closest approach, ``precompute.LONG_RAY_NODE_FACTOR`` times as many along rays
+   nodes clustered at the closest approach, ``nodes.LONG_RAY_NODE_FACTOR`` times as many along rays
    longer than the ground's horizontal ray to the top, as in the single-scattering stage).
 
 S_n is radiance (phase included) and accumulates into two tables, the light last scattered by molecules
@@ -38,6 +38,7 @@ import numpy as np
 
 from .lookup import (ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, ground_row_factor)
+from .nodes import LONG_RAY_NODE_FACTOR, is_optically_thick, ray_nodes, scattering_grid, split_ray_nodes
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
@@ -197,12 +198,11 @@ def _mie_kernels(atm, v, dirs, weights):
 def _ray_paths(tables, atm, r, mu, mu_s, nu, ground, samples, thick, density_shape):
     """Integration along the texels' rays, fixed for all orders, in two sets: rays up to the length of the
     ground's horizontal ray to the top, and longer ones, which graze the planet from high up and get
-    ``precompute.LONG_RAY_NODE_FACTOR`` times the nodes (through the limb seen from space the density peaks in
+    ``nodes.LONG_RAY_NODE_FACTOR`` times the nodes (through the limb seen from space the density peaks in
     the middle of a 1600 km ray: with 8 nodes order 2 read 11% above its value with 4x the nodes at 440 nm,
     tests/test_tables.py). Returns [(rays, an index into the (n_r, n_mu) axes; the stencil reading J, a table
     of ``density_shape``, at the nodes; node weights (rays, n_nu, n_mu_s, K, 2W), the view transmittance and
     each component's density folded in, against J's 2W channels)]."""
-    from .precompute import LONG_RAY_NODE_FACTOR
     r2, mu2, g2 = r[:, :, 0, 0], mu[:, :, 0, 0], ground[:, :, 0, 0]
     d2 = np.where(g2, distance_to_bottom_atmosphere_boundary(r2, mu2, tables.bottom),
                   distance_to_top_atmosphere_boundary(r2, mu2, tables.top))
@@ -224,8 +224,7 @@ def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, thick
     ground, prepared for J's table of ``shape``: (the stencil reading J at the nodes, node weights (..., K, 2W)
     with the view transmittance and each component's density folded in, against J's 2W channels). r, mu,
     ``ground`` and d broadcast against mu_s and nu; n nodes per side of the closest approach
-    (``precompute.ray_nodes``), on two segments where the atmosphere is optically ``thick``."""
-    from .precompute import ray_nodes, split_ray_nodes
+    (``nodes.ray_nodes``), on two segments where the atmosphere is optically ``thick``."""
     t, wt = split_ray_nodes(atm, r, mu, d, n) if thick else ray_nodes(r, mu, d, n)    # (..., K)
     r, mu, d = r[..., None], mu[..., None], d[..., None]
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * r * mu * t + r * r, 0.0)), tables.bottom, tables.top)
@@ -312,7 +311,6 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
                         progress=None):
     """(multiple-scattering tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by molecules and by
     particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used)."""
-    from .precompute import is_optically_thick, scattering_grid
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
     shape = r.shape
     W = atm.n_wavelengths

@@ -22,15 +22,17 @@ n_nu * n_mu_s) the shader samples.
 """
 from __future__ import annotations
 
-import functools
+import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .cache import parameters_hash, stage_parameters
 from .lookup import get_transmittance, get_transmittance_to_sun
+from .multiple import multiple_scattering
+from .nodes import LONG_RAY_NODE_FACTOR, altitude, is_optically_thick, ray_nodes, scattering_grid, texel_centres
 from .parameterization import (distance_to_bottom_atmosphere_boundary,
-                               distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv,
-                               r_mu_mu_s_nu_from_scattering_uvwz)
+                               distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv)
 
 
 @dataclass(frozen=True)
@@ -86,12 +88,6 @@ class Tables:
 THICK_MULTIPLE_ROWS = 16
 
 
-def is_optically_thick(atm) -> bool:
-    """Whether the vertical optical depth exceeds 1 at some wavelength: the light then comes from the first
-    attenuation lengths of a ray, and the radiance changes with altitude within a few of the tables' rows."""
-    return bool(np.max(atm.vertical_optical_depth()) > 1.0)
-
-
 def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     """``sizes`` as the precompute uses them for ``atm``: in an optically thick atmosphere the multiple-scattering
     table has at least ``THICK_MULTIPLE_ROWS`` r rows. With the standard level's 8, the 10-bar CO2 planet's 12
@@ -103,91 +99,15 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, THICK_MULTIPLE_ROWS))
 
 
-def _texel_centres(n):
-    return (np.arange(n) + 0.5) / n
-
-
-@functools.lru_cache(maxsize=None)
-def _gauss_legendre_unit(n):
-    """Gauss-Legendre nodes and weights of order n on [0, 1]."""
-    x, w = np.polynomial.legendre.leggauss(n)
-    return 0.5 * (x + 1.0), 0.5 * w
-
-
-def ray_nodes(r, mu, d, n, start=0.0):
-    """Quadrature nodes t (..., 2n) and weights on [start, d] along (r, mu), clustered at the closest approach.
-
-    Gauss-Legendre with t = t_c -+ span u^2 on each side of the closest approach t_c (clamped to the segment);
-    where t_c is an end of the segment (rays going up, or reaching the ground before their closest approach)
-    all 2n nodes go to the one side there is.
-    """
-    u, wu = _gauss_legendre_unit(n)
-    u2, wu2 = _gauss_legendre_unit(2 * n)
-    s = np.asarray(start, dtype=float)
-    dd = np.asarray(d, dtype=float)[..., None]
-    tc = np.clip(-r * mu, s, d)[..., None]
-    s = s[..., None]
-    before = tc - (tc - s) * u * u                # t from t_c down to start
-    after = tc + (dd - tc) * u * u                # t from t_c up to d
-    wb = 2.0 * (tc - s) * u * wu
-    wa = 2.0 * (dd - tc) * u * wu
-    t, wt = np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
-    span = dd - s
-    t = np.where(tc <= s, s + span * u2 * u2, np.where(tc >= dd, dd - span * u2 * u2, t))
-    wt = np.where((tc <= s) | (tc >= dd), 2.0 * span * u2 * wu2, wt)
-    return t, wt
-
-
-def split_ray_nodes(atm, r, mu, d, n, depth=3.0, fine=64):
-    """:func:`ray_nodes` on two segments of the ray, split where the optical depth of the most extinguished
-    wavelength reaches ``depth`` (or at d): (..., 4n) nodes and weights.
-
-    For optically thick atmospheres, where the in-scattered light comes from the first attenuation lengths
-    (a few hundred metres at tau = 4) while the more transparent wavelengths see tens of kilometres: one
-    Gauss-Legendre rule over the whole ray puts its first nodes kilometres apart.
-    """
-    r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
-    tf, wf = ray_nodes(r, mu, d, fine)
-    order = np.argsort(tf, -1)
-    tf, wf = np.take_along_axis(tf, order, -1), np.take_along_axis(wf, order, -1)
-    beta = atm.extinction(_altitude(r[..., None], mu[..., None], tf, atm.bottom_radius_m)).max(-1)
-    tau = np.cumsum(beta * wf, -1)
-    reached = tau >= depth
-    first = np.where(reached.any(-1), np.argmax(reached, -1), tf.shape[-1] - 1)
-    t_split = np.where(reached.any(-1), np.take_along_axis(tf, first[..., None], -1)[..., 0], d)
-    t1, w1 = ray_nodes(r, mu, t_split, n)
-    r_s = np.sqrt(np.maximum(t_split * t_split + 2.0 * r * mu * t_split + r * r, 0.0))
-    mu_s = np.clip((r * mu + t_split) / np.maximum(r_s, 1e-300), -1.0, 1.0)
-    t2, w2 = ray_nodes(r_s, mu_s, d - t_split, n)
-    return np.concatenate([t1, t_split[..., None] + t2], -1), np.concatenate([w1, w2], -1)
-
-
-def _altitude(r, mu, t, bottom):
-    return np.sqrt(np.maximum(t * t + 2.0 * r * mu * t + r * r, 0.0)) - bottom
-
-
 def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
     """tau(r, mu) to the top of the atmosphere (T = exp(-tau)), shape (n_r, n_mu, W)."""
     n_mu, n_r = sizes.transmittance
-    u, v = np.meshgrid(_texel_centres(n_mu), _texel_centres(n_r))
+    u, v = np.meshgrid(texel_centres(n_mu), texel_centres(n_r))
     r, mu = r_mu_from_transmittance_uv(u, v, atm.bottom_radius_m, atm.top_radius_m, (n_mu, n_r))
     d = distance_to_top_atmosphere_boundary(r, mu, atm.top_radius_m)
     t, w = ray_nodes(r, mu, d, sizes.transmittance_samples)
-    ext = atm.extinction(_altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
+    ext = atm.extinction(altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
     return np.einsum("...k,...kw->...w", w, ext)
-
-
-def scattering_grid(tables: Tables, size=None):
-    """(r, mu, mu_s, nu, intersects_ground) at the texel centres, each (n_r, n_mu, n_nu, n_mu_s)."""
-    size = tables.sizes.scattering if size is None else size
-    n_nu, n_mu_s, n_mu, n_r = size
-    u_r = _texel_centres(n_r)[:, None, None, None]
-    u_mu = _texel_centres(n_mu)[None, :, None, None]
-    u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
-    u_mu_s = _texel_centres(n_mu_s)[None, None, None, :]
-    shape = (n_r, n_mu, n_nu, n_mu_s)
-    out = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
-    return tuple(np.ascontiguousarray(np.broadcast_to(a, shape)) for a in out)     # r and mu per (r, mu) only
 
 
 def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
@@ -227,9 +147,6 @@ def _sum_over_nodes(a, sun):
 
 #: Quadrature nodes times (mu_s, nu) texels the single-scattering stage evaluates at once.
 SINGLE_SCATTERING_BLOCK = 2 ** 16
-#: How many times the nodes rays longer than the ground's horizontal ray get (``single_scattering`` and the
-#: multiple-scattering stage, ``multiple._ray_paths``).
-LONG_RAY_NODE_FACTOR = 2
 
 
 def single_scattering(tables: Tables, atm, progress=None):
@@ -279,9 +196,6 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     >>> tables.orders >= 2
     True
     """
-    import time
-    from .cache import parameters_hash, stage_parameters
-    from .multiple import multiple_scattering
     clock = time.perf_counter
     sizes = sizes_for(atm, sizes)
     W = atm.n_wavelengths

@@ -1,0 +1,102 @@
+"""Where the precompute evaluates: texel centres, the 4D scattering grid and the quadrature nodes along rays.
+
+Shared by the single-scattering stage (tables/precompute.py), the multiple-scattering stage
+(tables/multiple.py) and the evaluator's quadratures near the ground and the horizon (tables/near_ground.py,
+tables/horizon.py). Distances in metres; directions as (r, mu) with mu the cosine of the view zenith angle.
+"""
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from .parameterization import r_mu_mu_s_nu_from_scattering_uvwz
+
+#: How many times the nodes rays longer than the ground's horizontal ray get (``single_scattering`` and the
+#: multiple-scattering stage, ``multiple._ray_paths``).
+LONG_RAY_NODE_FACTOR = 2
+
+
+def is_optically_thick(atm) -> bool:
+    """Whether the vertical optical depth exceeds 1 at some wavelength: the light then comes from the first
+    attenuation lengths of a ray, and the radiance changes with altitude within a few of the tables' rows."""
+    return bool(np.max(atm.vertical_optical_depth()) > 1.0)
+
+
+def texel_centres(n):
+    """Texel centres (i + 1/2) / n of n texels on [0, 1]."""
+    return (np.arange(n) + 0.5) / n
+
+
+@functools.lru_cache(maxsize=None)
+def gauss_legendre_unit(n):
+    """Gauss-Legendre nodes and weights of order n on [0, 1]."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
+def ray_nodes(r, mu, d, n, start=0.0):
+    """Quadrature nodes t (..., 2n) and weights on [start, d] along (r, mu), clustered at the closest approach.
+
+    Gauss-Legendre with t = t_c -+ span u^2 on each side of the closest approach t_c (clamped to the segment);
+    where t_c is an end of the segment (rays going up, or reaching the ground before their closest approach)
+    all 2n nodes go to the one side there is.
+    """
+    u, wu = gauss_legendre_unit(n)
+    u2, wu2 = gauss_legendre_unit(2 * n)
+    s = np.asarray(start, dtype=float)
+    dd = np.asarray(d, dtype=float)[..., None]
+    tc = np.clip(-r * mu, s, d)[..., None]
+    s = s[..., None]
+    before = tc - (tc - s) * u * u                # t from t_c down to start
+    after = tc + (dd - tc) * u * u                # t from t_c up to d
+    wb = 2.0 * (tc - s) * u * wu
+    wa = 2.0 * (dd - tc) * u * wu
+    t, wt = np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
+    span = dd - s
+    t = np.where(tc <= s, s + span * u2 * u2, np.where(tc >= dd, dd - span * u2 * u2, t))
+    wt = np.where((tc <= s) | (tc >= dd), 2.0 * span * u2 * wu2, wt)
+    return t, wt
+
+
+def split_ray_nodes(atm, r, mu, d, n, depth=3.0, fine=64):
+    """:func:`ray_nodes` on two segments of the ray, split where the optical depth of the most extinguished
+    wavelength reaches ``depth`` (or at d): (..., 4n) nodes and weights.
+
+    For optically thick atmospheres, where the in-scattered light comes from the first attenuation lengths
+    (a few hundred metres at tau = 4) while the more transparent wavelengths see tens of kilometres: one
+    Gauss-Legendre rule over the whole ray puts its first nodes kilometres apart.
+    """
+    r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
+    tf, wf = ray_nodes(r, mu, d, fine)
+    order = np.argsort(tf, -1)
+    tf, wf = np.take_along_axis(tf, order, -1), np.take_along_axis(wf, order, -1)
+    beta = atm.extinction(altitude(r[..., None], mu[..., None], tf, atm.bottom_radius_m)).max(-1)
+    tau = np.cumsum(beta * wf, -1)
+    reached = tau >= depth
+    first = np.where(reached.any(-1), np.argmax(reached, -1), tf.shape[-1] - 1)
+    t_split = np.where(reached.any(-1), np.take_along_axis(tf, first[..., None], -1)[..., 0], d)
+    t1, w1 = ray_nodes(r, mu, t_split, n)
+    r_s = np.sqrt(np.maximum(t_split * t_split + 2.0 * r * mu * t_split + r * r, 0.0))
+    mu_s = np.clip((r * mu + t_split) / np.maximum(r_s, 1e-300), -1.0, 1.0)
+    t2, w2 = ray_nodes(r_s, mu_s, d - t_split, n)
+    return np.concatenate([t1, t_split[..., None] + t2], -1), np.concatenate([w1, w2], -1)
+
+
+def altitude(r, mu, t, bottom):
+    """Altitude [m] of the point at distance t [m] along the ray (r, mu) above a ground of radius ``bottom``."""
+    return np.sqrt(np.maximum(t * t + 2.0 * r * mu * t + r * r, 0.0)) - bottom
+
+
+def scattering_grid(tables, size=None):
+    """(r, mu, mu_s, nu, intersects_ground) at the texel centres, each (n_r, n_mu, n_nu, n_mu_s), of a table
+    of ``size`` (default ``tables.sizes.scattering``) between ``tables.bottom`` and ``tables.top``."""
+    size = tables.sizes.scattering if size is None else size
+    n_nu, n_mu_s, n_mu, n_r = size
+    u_r = texel_centres(n_r)[:, None, None, None]
+    u_mu = texel_centres(n_mu)[None, :, None, None]
+    u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
+    u_mu_s = texel_centres(n_mu_s)[None, None, None, :]
+    shape = (n_r, n_mu, n_nu, n_mu_s)
+    out = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
+    return tuple(np.ascontiguousarray(np.broadcast_to(a, shape)) for a in out)     # r and mu per (r, mu) only
