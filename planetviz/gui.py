@@ -21,8 +21,8 @@ import time
 
 import numpy as np
 
-from .atmosphere import AtmosphereError
-from .optics.mie import mie_scattering_turbidity
+from .atmosphere import LIMITS, AtmosphereError
+from .optics.mie import TURBIDITY_JUNGE, TURBIDITY_K, mie_scattering_turbidity, turbidity_from_scattering
 from .presets import PRESETS, load_atmosphere, load_dict
 from .render.scene import flight_path
 
@@ -34,21 +34,14 @@ def _scaled(values, factor):
     return [float(v) * factor for v in values]
 
 
-#: Eq. 17 in standard mode: Junge exponent 4 and K = 0.0092 (Table 1's Earth value at 550 nm).
-TURBIDITY_JUNGE, TURBIDITY_K = 4.0, 0.0092
+def turbidity_of(d, b):
+    """The turbidity of the dict ``d`` (:func:`~planetviz.optics.mie.turbidity_from_scattering`)."""
+    return turbidity_from_scattering(np.asarray(d["wavelengths_nm"]) * 1e-9, d["mie"]["scattering_m"])
 
 
-def _turbidity_scattering(d, turbidity):
-    return mie_scattering_turbidity(np.asarray(d["wavelengths_nm"]) * 1e-9, turbidity, TURBIDITY_JUNGE, TURBIDITY_K)
-
-
-def _turbidity_of(d, b):
-    """The turbidity whose Eq. 17 scattering matches the first wavelength's beta_M (linear in T - 1)."""
-    return 1.0 + d["mie"]["scattering_m"][0] / _turbidity_scattering(d, 2.0)[0]
-
-
-def _set_turbidity(d, b, turbidity):
-    scat = _turbidity_scattering(d, turbidity)
+def set_turbidity(d, b, turbidity):
+    """Set the dict ``d``'s Mie scattering from Eq. 17 at ``turbidity``, keeping ``b``'s extinction / scattering."""
+    scat = mie_scattering_turbidity(np.asarray(d["wavelengths_nm"]) * 1e-9, turbidity, TURBIDITY_JUNGE, TURBIDITY_K)
     ratio = np.asarray(b["mie"]["extinction_m"]) / np.maximum(np.asarray(b["mie"]["scattering_m"]), 1e-300)
     d["mie"].update(scattering_m=[float(x) for x in scat], extinction_m=[float(x) for x in scat * ratio])
 
@@ -60,14 +53,14 @@ STANDARD = [
     ("Mie x (scattering and extinction scale)", (0.0, 10.0), lambda d, b: 1.0,
      lambda d, b, v: d["mie"].update(scattering_m=_scaled(b["mie"]["scattering_m"], v),
                                      extinction_m=_scaled(b["mie"]["extinction_m"], v))),
-    ("turbidity T (Eq. 17: Junge 4, K 0.0092)", (1.0, 10.0), _turbidity_of, _set_turbidity),
+    ("turbidity T (Eq. 17: Junge 4, K 0.0092)", (1.0, 10.0), turbidity_of, set_turbidity),
     ("Rayleigh scale height [km]", (0.5, 50.0), lambda d, b: d["rayleigh"]["profile"]["scale_height_m"] / 1e3,
      lambda d, b, v: d["rayleigh"]["profile"].update(scale_height_m=v * 1e3)),
     ("Mie scale height [km]", (0.1, 20.0), lambda d, b: d["mie"]["profile"]["scale_height_m"] / 1e3,
      lambda d, b, v: d["mie"]["profile"].update(scale_height_m=v * 1e3)),
-    ("Mie g1 (forward lobe, -1 < g < 1)", (-1.0, 1.0), lambda d, b: d["mie"]["phase"]["g1"][0],
+    ("Mie g1 (forward lobe)", LIMITS["g"], lambda d, b: d["mie"]["phase"]["g1"][0],
      lambda d, b, v: d["mie"]["phase"].update(g1=[v] * len(d["wavelengths_nm"]))),
-    ("Mie g2 (second lobe, -1 < g < 1)", (-1.0, 1.0), lambda d, b: d["mie"]["phase"]["g2"][0],
+    ("Mie g2 (second lobe)", LIMITS["g"], lambda d, b: d["mie"]["phase"]["g2"][0],
      lambda d, b, v: d["mie"]["phase"].update(g2=[v] * len(d["wavelengths_nm"]))),
     ("Mie alpha (weight of g1)", (0.0, 1.0), lambda d, b: d["mie"]["phase"]["alpha"][0],
      lambda d, b, v: d["mie"]["phase"].update(alpha=[v] * len(d["wavelengths_nm"]))),

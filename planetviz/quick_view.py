@@ -53,7 +53,7 @@ def sample_fractions(n, exponent):
     return 0.5 * (edges[:-1] + edges[1:]), np.diff(edges)
 
 
-def _coefficients(atm, terms):
+def coefficients(atm, terms):
     """(beta_R^s [W], beta_M^s [W], [(extinction [W], profile)...]) under the chosen terms."""
     b_r, b_m = np.asarray(atm.rayleigh.scattering_m), np.asarray(atm.mie.scattering_m)
     comps = atm.components()
@@ -107,7 +107,7 @@ def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=8, density_sampl
     q = validate_queries(camera, view_dir, sun_dir, atm.bottom_radius_m)
     c, v, s = q.camera_m, q.view_dir, q.sun_dir
     R, top = atm.bottom_radius_m, atm.top_radius_m
-    b_r, b_m, extinction = _coefficients(atm, terms)
+    b_r, b_m, extinction = coefficients(atm, terms)
 
     start_t, end_t = shell_segment(c, v, top)
     t_ground = distance_to_ground(c, v, R)

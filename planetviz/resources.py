@@ -8,8 +8,11 @@ from any working directory.
 """
 from __future__ import annotations
 
+import csv
 from importlib.resources import files
 from pathlib import Path
+
+import numpy as np
 
 
 def _folder(package: str) -> Path:
@@ -25,3 +28,12 @@ def shader_dir() -> Path:
 def asset_dir(*parts: str) -> Path:
     """A folder or file under the assets (``assets/`` in the repository), e.g. ``asset_dir("textures")``."""
     return _folder("planetviz.assets").joinpath(*parts)
+
+
+def read_data_csv(name: str) -> dict:
+    """The columns of ``assets/data/<name>`` (a CSV file with ``#`` comment lines and a header row) as
+    float arrays, by column name."""
+    with open(asset_dir("data", name)) as f:
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    header, body = rows[0], np.array(rows[1:], dtype=float)
+    return {column: body[:, i] for i, column in enumerate(header)}

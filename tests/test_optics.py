@@ -219,3 +219,14 @@ def test_preset_optical_depths_are_the_documented_ones(preset):
             tau += ext * np.trapezoid(profile.density(h), h)
     assert np.allclose(atm.vertical_optical_depth(), tau, rtol=1e-6)
     assert np.allclose(tau, DOCUMENTED_TAU[preset], rtol=3e-4, atol=5e-5)  # the printed rounding
+
+
+def test_turbidity_from_scattering_inverts_eq17():
+    # Eq. 16-17: beta_M is proportional to C(T) = 0.65 (T - 1) 1e-16, so inverting at one wavelength must give T
+    # back to rounding, for any wavelength set and Junge exponent.
+    from planetviz.optics.mie import mie_scattering_turbidity, turbidity_from_scattering
+    lam = np.array([680e-9, 550e-9, 440e-9])
+    for t in (1.0, 2.0, 3.7, 10.0):
+        for v, k in ((4.0, 0.0092), (3.5, 0.02)):
+            beta = mie_scattering_turbidity(lam, t, v, k)
+            assert abs(turbidity_from_scattering(lam, beta, v, k) - t) < 1e-12 * t

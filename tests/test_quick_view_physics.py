@@ -67,8 +67,8 @@ def test_transmittance_and_space():
 def test_artistic_terms_follow_table_1():
     # Table 1 of Keller and Bohn: molecular scattering scaled by (lambda_red / lambda)^4 from the longest
     # wavelength, so the artistic and physical coefficients agree at the red end only.
-    from planetviz.quick_view import _coefficients
-    b_r, b_m, _ = _coefficients(EARTH, "artistic")
+    from planetviz.quick_view import coefficients
+    b_r, b_m, _ = coefficients(EARTH, "artistic")
     wl = np.asarray(EARTH.wavelengths_nm)
     assert np.isclose(b_r[0], EARTH.rayleigh.scattering_m[0])
     assert np.allclose(b_r / b_r[0], (wl[0] / wl) ** 4)

@@ -21,14 +21,14 @@ from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, mu_s_fr
                                                unit_range_from_texcoord)
 from planetviz.tables.nodes import scattering_grid
 from planetviz.tables.precompute import QUALITY, precompute
-from planetviz.tables.sampling import _axis, texture2d
+from planetviz.tables.sampling import texel_axis, texture2d
 
 
 def texture3d(table, u, v, w):
     """Trilinear GL_LINEAR / clamp-to-edge read of (depth, height, width, channels), written out plainly:
     the independent check of the stencils the package uses."""
     nw, nv, nu = table.shape[:3]
-    (u0, u1, fu), (v0, v1, fv), (w0, w1, fw) = _axis(u, nu), _axis(v, nv), _axis(w, nw)
+    (u0, u1, fu), (v0, v1, fv), (w0, w1, fw) = texel_axis(u, nu), texel_axis(v, nv), texel_axis(w, nw)
     fu, fv, fw = fu[..., None], fv[..., None], fw[..., None]
 
     def plane(wi):

@@ -1,15 +1,12 @@
 """Absorption by molecules and small particles (paper Sect. 4.2, Eqs. 12-15)."""
 from __future__ import annotations
 
-import csv
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 
-from ..resources import asset_dir
+from ..resources import read_data_csv
 
-DATA = asset_dir("data")
 DOBSON_UNIT = 2.6867e20  # molecules/m^2
 
 
@@ -39,17 +36,10 @@ def oxygen_cia_absorption(cia_m5, volume_fraction, number_density):
     return np.asarray(cia_m5, dtype=float) * n_o2 * n_o2
 
 
-def _read_csv(path: Path):
-    with open(path) as f:
-        rows = [r for r in csv.reader(line for line in f if not line.startswith("#"))]
-    header, body = rows[0], np.array(rows[1:], dtype=float)
-    return {name: body[:, i] for i, name in enumerate(header)}
-
-
 @lru_cache(maxsize=None)
 def ozone_cross_section_table():
     """(bin-centre wavelengths [nm], sigma_O3 [m^2]) from assets/data/ozone_cross_section.csv."""
-    t = _read_csv(DATA / "ozone_cross_section.csv")
+    t = read_data_csv("ozone_cross_section.csv")
     return t["wavelength_nm"], t["cross_section_m2"]
 
 
@@ -62,7 +52,7 @@ def ozone_cross_section(wavelength_nm):
 @lru_cache(maxsize=None)
 def oxygen_cia_table():
     """(wavelengths [nm], O2-O2 CIA coefficient k [m^5]) from assets/data/o2_o2_cia.csv (HITRAN 2016)."""
-    t = _read_csv(DATA / "o2_o2_cia.csv")
+    t = read_data_csv("o2_o2_cia.csv")
     return t["wavelength_nm"], t["cia_m5"]
 
 
@@ -80,7 +70,7 @@ def oxygen_cia(wavelength_nm):
 @lru_cache(maxsize=None)
 def ozone_profile_table():
     """(altitude [m], O3 number density [1/m^3]) of the US Standard Atmosphere (AFGL 1986, table 1f)."""
-    t = _read_csv(DATA / "ozone_us_standard_1976.csv")
+    t = read_data_csv("ozone_us_standard_1976.csv")
     return t["altitude_m"], t["o3_number_density_m3"]
 
 

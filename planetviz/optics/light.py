@@ -10,7 +10,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .absorption import DATA, _read_csv
+from ..resources import read_data_csv
 
 PLANCK = 6.62607015e-34
 LIGHT_SPEED = 299792458.0
@@ -21,7 +21,7 @@ SOLAR_CONSTANT = 1361.0  # W/m^2 at 1 AU (total solar irradiance)
 @lru_cache(maxsize=None)
 def solar_spectrum():
     """(wavelength [nm], E [W m^-2 nm^-1]): ASTM G-173 extraterrestrial, 280-2500 nm."""
-    t = _read_csv(DATA / "solar_astm_g173_etr.csv")
+    t = read_data_csv("solar_astm_g173_etr.csv")
     return t["wavelength_nm"], t["irradiance_w_m2_nm"]
 
 

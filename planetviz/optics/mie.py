@@ -16,6 +16,20 @@ def mie_scattering_turbidity(wavelength_m, turbidity, junge_exponent, k):
         * np.asarray(k, dtype=float)
 
 
+#: Eq. 17 for the standard mode's turbidity control: Junge exponent 4 and K = 0.0092 (Table 1's Earth value at
+#: 550 nm).
+TURBIDITY_JUNGE, TURBIDITY_K = 4.0, 0.0092
+
+
+def turbidity_from_scattering(wavelength_m, scattering_m, junge_exponent=TURBIDITY_JUNGE, k=TURBIDITY_K):
+    """The turbidity T whose Eq. 17 beta_M^scat at the first wavelength is ``scattering_m[0]`` [1/m].
+
+    C(T) is linear in T - 1 (Eq. 16), so T = 1 + beta / beta(T = 2).
+    """
+    at_two = mie_scattering_turbidity(np.asarray(wavelength_m, dtype=float)[:1], 2.0, junge_exponent, k)[0]
+    return 1.0 + float(np.asarray(scattering_m, dtype=float)[0]) / at_two
+
+
 def _rho_beta(wavelength_m, radius_m, m, k):
     rho = 4.0 * np.pi / np.asarray(wavelength_m, dtype=float) * radius_m * (np.asarray(m, float) - 1.0)
     beta = np.arctan2(np.asarray(k, float), np.asarray(m, float) - 1.0)

@@ -16,7 +16,7 @@ from ..geometry import distance_to_ground, distance_to_top_exit, ray_sphere
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
 
 
-def _nodes(panels: int):
+def gauss_legendre_panels(panels: int):
     """Composite Gauss-Legendre nodes u in [0, 1] and weights, ``panels`` x 16 points."""
     edges = np.linspace(0.0, 1.0, panels + 1)
     half = 0.5 * (edges[1:] - edges[:-1])
@@ -43,7 +43,7 @@ def optical_depth(atm, origin, direction, length, panels: int = 8, index=None):
     # |o + t d|^2 = (t + b)^2 + q, q = |o|^2 - b^2 taken from the perpendicular part (no cancellation).
     perp = o - b[..., None] * d
     q = np.einsum("...i,...i->...", perp, perp)
-    u, w = _nodes(panels)
+    u, w = gauss_legendre_panels(panels)
     tau = np.zeros(o.shape[:-1] + ((atm.n_wavelengths,) if index is None else (1,)))
     # Part 1: t from tc down to 0; part 2: t from tc up to length.
     for sign, span in ((-1.0, tc), (1.0, length - tc)):

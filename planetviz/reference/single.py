@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry import distance_to_ground
-from .optical_depth import _nodes, optical_depth, shell_segment, sun_transmittance
+from .optical_depth import gauss_legendre_panels, optical_depth, shell_segment, sun_transmittance
 from .shadow import shadow_interval
 
 
@@ -58,7 +58,7 @@ def _single_scattering(atm, c, v, s, panels):
     a, b = np.clip(a, 0.0, length), np.clip(b, 0.0, length)
     cuts = np.sort(np.stack([np.zeros_like(length), tc, np.where(a < b, a, tc), np.where(a < b, b, tc),
                              length], axis=1), axis=1)
-    u, w = _nodes(panels)
+    u, w = gauss_legendre_panels(panels)
     nu = np.einsum("ni,ni->n", v, s)
     p_r = atm.rayleigh.phase_function(nu)[:, None]
     p_m = atm.mie.phase_function(nu)

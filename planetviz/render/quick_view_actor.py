@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..quick_view import SAMPLING, _coefficients, check_settings
+from ..quick_view import SAMPLING, coefficients, check_settings
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pad_groups
@@ -35,7 +35,7 @@ class QuickViewActor(DirectionMeshActor):
     def static_uniforms(self):
         atm = self.atmosphere
         G = group_count(atm.n_wavelengths)
-        b_r, b_m, extinction = _coefficients(atm, self.terms)
+        b_r, b_m, extinction = coefficients(atm, self.terms)
         if len(extinction) > MAX_COMPONENTS:
             raise ValueError(f"absorption: the quick view takes at most {MAX_COMPONENTS - 2} absorbing layers, "
                              f"got {len(extinction) - 2}")

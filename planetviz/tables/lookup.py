@@ -9,7 +9,7 @@ import numpy as np
 from .parameterization import (distance_to_bottom_atmosphere_boundary, irradiance_uv_from_r_mu_s, ray_intersects_ground,
                                scattering_uvwz_from_r_mu_mu_s_nu, texcoord_from_unit_range,
                                transmittance_uv_from_r_mu, x_mu_s_from_mu_s)
-from .sampling import _axis as _texel_axis
+from .sampling import texel_axis
 from .sampling import texture2d
 
 #: The least a zero texel counts for in :func:`geometric_blend`, relative to its lit neighbour.
@@ -134,11 +134,11 @@ def get_transmittance_to_sun(t, r, mu_s):
     if 4 * r.size >= np.prod(shape, dtype=np.int64):
         return np.where(shadow[..., None], 0.0, get_transmittance_to_top_atmosphere_boundary(t, r, mu_s))
     u, v = transmittance_uv_from_r_mu(r, mu_s, t.bottom, t.top, (n_mu, n_r))     # v depends on r only: r.shape
-    v0, v1, fv = _texel_axis(v, n_r)
+    v0, v1, fv = texel_axis(v, n_r)
     fv = fv.astype(np.float32)[..., None, None]
     rows = t.optical_depth[v0] * (1 - fv) + t.optical_depth[v1] * fv         # r.shape + (n_mu, W)
     rows = np.ascontiguousarray(np.moveaxis(rows.reshape(-1, rows.shape[-1]), -1, 0))   # (W, r.size n_mu)
-    u0, u1, fu = _texel_axis(u, n_mu)
+    u0, u1, fu = texel_axis(u, n_mu)
     row = np.broadcast_to(np.arange(r.size).reshape(r.shape), shape) * n_mu
     i0, i1, fu = row + u0, row + u1, fu.astype(np.float32)
     tau = np.stack([np.take(w, i0) * (1 - fu) + np.take(w, i1) * fu for w in rows])
@@ -171,8 +171,8 @@ class ScatteringStencil:
         coord = u_nu * (n_nu - 1)
         tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
         lerp = coord - tex_nu
-        s0, s1, fs = _texel_axis(u_mu_s, n_mu_s)
-        (j0, j1, fy), (k0, k1, fz) = _texel_axis(u_mu, n_mu), _texel_axis(u_r, n_r)
+        s0, s1, fs = texel_axis(u_mu_s, n_mu_s)
+        (j0, j1, fy), (k0, k1, fz) = texel_axis(u_mu, n_mu), texel_axis(u_r, n_r)
         n_x = n_nu * n_mu_s
         idx, wts = ([], []), ([], [])
         for dn, wn in ((0, 1.0 - lerp), (1, lerp)):
@@ -221,7 +221,7 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground):
     s1 = s0 + 1
     fs = np.minimum(coord_s - s0, 1.0)[..., None]
     flat = table.reshape(n_r * n_mu, n_nu * n_mu_s, table.shape[-1])
-    (k0, k1, fz), (j0, j1, fy) = _texel_axis(u_r, n_r), _texel_axis(u_mu, n_mu)
+    (k0, k1, fz), (j0, j1, fy) = texel_axis(u_r, n_r), texel_axis(u_mu, n_mu)
     fz, fy = fz[..., None], fy[..., None]
 
     def bilinear(col):

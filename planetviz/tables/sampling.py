@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 
-def _axis(u, n):
+def texel_axis(u, n):
     s = np.asarray(u, dtype=float) * n - 0.5
     i0 = np.floor(s)
     f = s - i0
@@ -19,8 +19,8 @@ def _axis(u, n):
 def texture2d(table, u, v):
     """Bilinear lookup of ``table`` (height n_v, width n_u, channels) at (u, v); returns (..., channels)."""
     nv, nu = table.shape[:2]
-    u0, u1, fu = _axis(u, nu)
-    v0, v1, fv = _axis(v, nv)
+    u0, u1, fu = texel_axis(u, nu)
+    v0, v1, fv = texel_axis(v, nv)
     fu, fv = fu[..., None], fv[..., None]
     top = table[v0, u0] * (1 - fu) + table[v0, u1] * fu
     bottom = table[v1, u0] * (1 - fu) + table[v1, u1] * fu
@@ -30,7 +30,7 @@ def texture2d(table, u, v):
 def texture3d(table, u, v, w):
     """Trilinear lookup of ``table`` (depth n_w, height n_v, width n_u, channels) at (u, v, w)."""
     nw = table.shape[0]
-    w0, w1, fw = _axis(w, nw)
+    w0, w1, fw = texel_axis(w, nw)
     fw = fw[..., None]
     return texture2d_slices(table, w0, u, v) * (1 - fw) + texture2d_slices(table, w1, u, v) * fw
 
@@ -38,8 +38,8 @@ def texture3d(table, u, v, w):
 def texture2d_slices(table, slice_index, u, v):
     """Bilinear lookup in the slices ``table[slice_index]`` (one slice per query)."""
     nv, nu = table.shape[1:3]
-    u0, u1, fu = _axis(u, nu)
-    v0, v1, fv = _axis(v, nv)
+    u0, u1, fu = texel_axis(u, nu)
+    v0, v1, fv = texel_axis(v, nv)
     fu, fv = fu[..., None], fv[..., None]
     top = table[slice_index, v0, u0] * (1 - fu) + table[slice_index, v0, u1] * fu
     bottom = table[slice_index, v1, u0] * (1 - fu) + table[slice_index, v1, u1] * fu
