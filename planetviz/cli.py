@@ -25,6 +25,7 @@ import sys
 
 import numpy as np
 
+from .geometry import EYE_HEIGHT_M
 from .presets import PRESETS, load_atmosphere
 from .reference.montecarlo import QUALITY_SAMPLES as REFERENCE_SAMPLES
 from .render_cli import add_render_options, run_render
@@ -118,7 +119,7 @@ def _cmd_sky(args) -> int:
     atm = load_atmosphere(args.atmosphere)
     elev = np.radians(args.sun_elevation)
     sun = np.array([np.cos(elev), 0.0, np.sin(elev)])
-    camera = np.array([0.0, 0.0, atm.bottom_radius_m + 1.7])
+    camera = np.array([0.0, 0.0, atm.bottom_radius_m + EYE_HEIGHT_M])
     views = {"zenith": (90, 0), "45 deg toward sun": (45, 0), "45 deg away from sun": (45, 180),
              "horizon toward sun": (2, 0), "horizon at 90 deg": (2, 90), "horizon away from sun": (2, 180)}
     dirs = np.array([[np.cos(np.radians(e)) * np.cos(np.radians(a)), np.cos(np.radians(e)) * np.sin(np.radians(a)),
@@ -126,7 +127,7 @@ def _cmd_sky(args) -> int:
     res = solve(atm, np.repeat(camera[None], len(dirs), 0), dirs, sun,
                 samples=REFERENCE_SAMPLES[args.quality], seed=args.seed)
     rgb = radiance_to_srgb(res.radiance, atm)
-    print(f"{atm.name}: sky seen from 1.7 m above the ground, sun {args.sun_elevation:g} deg above the horizon "
+    print(f"{atm.name}: sky seen from {EYE_HEIGHT_M:g} m above the ground, sun {args.sun_elevation:g} deg above the horizon "
           f"(reference solver, {res.samples} paths per ray)")
     print(f"{'view':>22}  " + "  ".join(f"L({lam:g} nm) [1/sr]" for lam in atm.wavelengths_nm) + "   sRGB (8-bit)")
     for k, name in enumerate(views):
@@ -203,7 +204,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output npz (camera_m, view_dir, sun_dir)")
     p.add_argument("--latitude", type=float, default=0.0, help="site [deg]")
     p.add_argument("--longitude", type=float, default=0.0, help="site [deg]")
-    p.add_argument("--altitude", type=float, default=1.7, help="camera above the ground [m]")
+    p.add_argument("--altitude", type=float, default=EYE_HEIGHT_M, help="camera above the ground [m]")
     p.add_argument("--sun-elevation", type=float, default=30.0, help="seen from the site [deg]")
     p.add_argument("--sun-azimuth", type=float, default=180.0, help="from north through east [deg]")
     p.add_argument("--elevations", type=float, nargs="+", default=[90.0, 45.0, 10.0, 2.0],

@@ -53,6 +53,11 @@ def distance_to_top_exit(origin, direction, top_radius):
     return np.maximum(np.nan_to_num(t1, nan=0.0), 0.0)
 
 
+#: Height of an observer's eyes above the ground [m]: the camera of ``planetviz sky``, of the queries from a site
+#: and of the end of a flight to the ground.
+EYE_HEIGHT_M = 1.7
+
+
 def local_frame(latitude_deg, longitude_deg):
     """(up, east, north) unit vectors at a site on the planet."""
     lat, lon = np.radians(latitude_deg), np.radians(longitude_deg)

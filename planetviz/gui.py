@@ -22,6 +22,7 @@ import time
 import numpy as np
 
 from .atmosphere import LIMITS, AtmosphereError
+from .geometry import EYE_HEIGHT_M
 from .optics.mie import TURBIDITY_JUNGE, TURBIDITY_K, mie_scattering_turbidity, turbidity_from_scattering
 from .presets import PRESETS, load_atmosphere, load_dict
 from .render.scene import flight_path
@@ -256,7 +257,7 @@ class PlanetApp:
         elif name == "aircraft":
             s.view_from_ground(latitude=lat, altitude=1e4, heading=self._sun[1], pitch=0.0, fov=60.0)
         else:
-            s.view_from_ground(latitude=lat, altitude=1.7, heading=self._sun[1], pitch=5.0, fov=60.0)
+            s.view_from_ground(latitude=lat, altitude=EYE_HEIGHT_M, heading=self._sun[1], pitch=5.0, fov=60.0)
         s.set_sun(*self._sun)
         self.refresh()
 

@@ -5,6 +5,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .geometry import EYE_HEIGHT_M
+
 #: A camera this far below the ground (rounding of a position given on the ground) is put on it.
 GROUND_TOLERANCE_M = 1e-3
 
@@ -79,7 +81,7 @@ def load_queries(path, bottom_radius_m: float) -> Queries:
     return validate_queries(arrays["camera_m"], arrays["view_dir"], arrays["sun_dir"], bottom_radius_m)
 
 
-def site_queries(bottom_radius_m: float, latitude: float = 0.0, longitude: float = 0.0, altitude: float = 1.7,
+def site_queries(bottom_radius_m: float, latitude: float = 0.0, longitude: float = 0.0, altitude: float = EYE_HEIGHT_M,
                  sun_elevation: float = 30.0, sun_azimuth: float = 180.0, elevations=(90.0, 45.0, 10.0, 2.0),
                  azimuths=(0.0, 90.0, 180.0, 270.0)) -> Queries:
     """Queries from one site: a camera ``altitude`` [m] above the ground at ``latitude``, ``longitude``

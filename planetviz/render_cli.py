@@ -62,7 +62,7 @@ def add_render_options(p):
     p.add_argument("--sweep-sun", nargs=3, type=float, metavar=("START", "STOP", "STEP"), default=None,
                    help="batch: one frame per sun elevation from START to STOP [deg]")
     p.add_argument("--flight", type=int, default=None, metavar="FRAMES",
-                   help="batch: fly from 4 planet radii straight down to 1.7 m above the site in FRAMES frames")
+                   help="batch: fly from 4 planet radii straight down to eye height (1.7 m) above the site in FRAMES frames")
     p.add_argument("--fisheye", default=None, help="180 deg dome master (PNG tone-mapped, or .exr linear)")
     p.add_argument("--fisheye-size", type=int, default=1024)
     p.add_argument("--panorama", default=None, help="equirectangular HDR sky (OpenEXR)")

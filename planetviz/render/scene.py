@@ -14,7 +14,7 @@ import pyvista as pv
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..atmosphere import Atmosphere
-from ..geometry import local_frame, site_direction
+from ..geometry import EYE_HEIGHT_M, local_frame, site_direction
 from ..presets import load_atmosphere
 from ..color import linear_srgb
 from ..optics.light import star_irradiance
@@ -43,7 +43,7 @@ def flight_path(bottom_radius, frames, level_pitch=5.0):
     ``level_pitch`` below 100 km."""
     if frames < 2:
         raise ValueError(f"flight: at least 2 frames, got {frames}")
-    altitudes = np.geomspace(3.0 * bottom_radius, 1.7, frames)
+    altitudes = np.geomspace(3.0 * bottom_radius, EYE_HEIGHT_M, frames)
     pitch = -90.0 + 90.0 * np.clip(np.log10(1e7 / altitudes) / 2.0, 0.0, 1.0)
     return [(float(a), float(min(p, level_pitch))) for a, p in zip(altitudes, pitch)]
 

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..color import linear_srgb_matrix
+from ..optics.phase import PENNDORF_A
 from .textures import MAX_GROUPS, group_count, pad_groups
 
 TONE_MAPPINGS = {"exponential": 0, "filmic": 1, "clamp": 2}
@@ -41,7 +42,7 @@ def atmosphere_uniforms(atm):
     return {
         "bottom_radius": ("f", atm.bottom_radius_m), "top_radius": ("f", atm.top_radius_m),
         "group_count": ("i", G),
-        "rayleigh_anisotropy": ("f", 1.0 if atm.rayleigh.phase == "rayleigh" else 0.932),
+        "rayleigh_anisotropy": ("f", 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A),
         "mie_g1": ("4fv", per_group(atm.mie.g1)), "mie_g2": ("4fv", per_group(atm.mie.g2)),
         "mie_alpha": ("4fv", per_group(atm.mie.alpha)),
         "surface_albedo": ("4fv", per_group(atm.ground_albedo)),
