@@ -1,4 +1,5 @@
-"""Quick view: Keller and Bohn's single-scattering integrator with no precomputed tables (../shared/seeds/002).
+"""Quick view: the single-scattering integrator of Keller and Bohn ("A GPU-based real time method for simulating
+atmospheric light scattering"), with no precomputed tables.
 
 The NumPy twin of the quick-view shader: the same sampling and the same names. For a view ray from x (moved to
 where it enters the atmosphere when x is in space) along v, with D the length of its part in the atmosphere

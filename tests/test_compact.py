@@ -12,7 +12,7 @@ EARTH = load_atmosphere("earth")
 
 
 def test_atmosphere_plus_mappings():
-    # The printed forward and inverse mappings (seeds/001 Sect. 2.4) invert each other, and the
+    # The printed forward and inverse mappings (Atmosphere Plus, Sect. 2.4) invert each other, and the
     # zenith-cosine one puts half the texels within |mu| < 1/8 of the horizontal.
     c = np.linspace(-1, 1, 2001)
     assert np.allclose(cosine_from_compact_x(compact_x_from_cosine(c)), c, atol=1e-12)

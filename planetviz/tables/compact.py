@@ -1,4 +1,4 @@
-"""Compact mode after Atmosphere Plus (Boody, ../shared/seeds/001): a 3D table without the sun-view azimuth.
+"""Compact mode after Boody's "Atmosphere Plus" notes: a 3D table without the sun-view azimuth.
 
 The in-scattering tables lose their fourth coordinate: C(h, cos(phi), cos(delta)) over altitude, view zenith
 and sun zenith, with the phase functions factored out (applied at render time with the true view-sun angle
