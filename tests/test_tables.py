@@ -302,10 +302,10 @@ def test_the_orders_beyond_the_cap_are_added_as_a_geometric_tail():
 def test_standard_tables_against_the_reference(preset):
     # Full radiance (all orders, ground, aerial perspective) against the reference solver for 12 rays in
     # daylight, at its high quality (stored under benchmarks/data/; RMS relative standard error 0.21% Earth,
-    # 0.44% Mars, 0.93% the thick planet, so a 3% error is resolved). Bound: RMS relative error < 3%; tables
-    # without multiple scattering miss 10-20% (Earth) or > 50% (the thick atmosphere) and fail. Measured,
-    # standard tables: Earth 0.35%, Mars 2.60% (worst ray -7.3%), the 10-bar CO2
-    # planet 1.90%.
+    # 0.44% Mars, 0.93% the thick planet). What this checks is that every order is there: the same tables
+    # without multiple scattering (precompute(..., multiple=False)) miss 34% RMS here (Earth), 51% (Mars), 76%
+    # (the thick planet). Bound: 5% RMS, a seventh of the smallest of those misses and 5x the reference's noise. The tables' accuracy itself is measured, not bounded, by
+    # benchmarks/tables_vs_reference.py and benchmarks/tables_pareto.py (docs/benchmarks.md).
     atm = load_atmosphere(preset)
     r = atm.bottom_radius_m
     cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
@@ -317,11 +317,11 @@ def test_standard_tables_against_the_reference(preset):
     lut, trans = sky_radiance(tables, atm, cams, views, sun)
     ref = stored_reference(f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
     rel = (lut - ref.radiance) / ref.radiance
-    assert np.sqrt(np.mean(rel ** 2)) < 0.03, rel
-    # Transmittance against the reference's deterministic quadrature, compared as optical depth: T = exp(-tau),
-    # so T's relative error is tau's absolute error, which grows with tau (the thick planet's rays reach tau =
-    # 38). Measured: tau within 7.2e-4 / 4.7e-4 / 7.7e-4 relative (Earth, Mars, the thick planet; at most 9e-4
-    # absolute below tau = 2.5). Bound 1e-3 relative + 2e-3 absolute (for Earth the former rtol 2e-3 on T).
+    assert np.sqrt(np.mean(rel ** 2)) < 0.05, rel
+    # Transmittance against the reference's deterministic quadrature (relative error < 1e-5), compared as optical
+    # depth: T = exp(-tau), so T's relative error is tau's absolute error, which grows with tau (the thick planet's
+    # rays reach tau = 38). Bound: the transmittance table's own quadrature error, within 1.05e-3 relative
+    # (docs/tables.md), plus 2e-3 absolute for the interpolation between texels where tau is small.
     assert np.allclose(-np.log(trans), -np.log(ref.transmittance), rtol=1e-3, atol=2e-3)
 
 
