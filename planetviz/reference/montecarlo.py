@@ -399,74 +399,102 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
 
 
 def _trace(atm, w, origin, direction, sun, rng, first, limit):
-    """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w."""
+    """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w.
+
+    Each step, for the live paths: the segment from the last vertex along its direction to the ground or to
+    space and its optical depth; the light of the next vertex straight from the sun (:func:`_next_event`);
+    the next vertex itself, a collision in the air (:func:`_collide`) or the ground (:func:`_bounce`), with
+    its new direction; Russian roulette past ROULETTE_ORDER events (:func:`_roulette`).
+    """
     count = len(origin)
     radiance = np.zeros(count)
     start, end = shell_segment(origin, direction, atm.top_radius_m)
-    pos = origin + start[:, None] * direction
-    d = direction.copy()
-    weight = np.ones(count)
-    weight_first = np.ones(count)
-    order = np.zeros(count, dtype=np.int64)
+    paths = _Paths(pos=origin + start[:, None] * direction, d=direction.copy(), weight=np.ones(count),
+                   weight_first=np.ones(count), order=np.zeros(count, dtype=np.int64))
     idx = np.nonzero(end > start)[0]
-    albedo = float(atm.ground_albedo[w])
     while idx.size:
-        p, dd, s = pos[idx], d[idx], sun[idx]
+        p, dd, s = paths.pos[idx], paths.d[idx], sun[idx]
         t_ground = distance_to_ground(p, dd, atm.bottom_radius_m)
         t_top = distance_to_top_exit(p, dd, atm.top_radius_m)
         ground = np.isfinite(t_ground) & (t_ground <= t_top)
         length = np.where(ground, t_ground, t_top)
         t_nodes, tau = segment_optical_depth(atm, w, p, dd, length)
 
-        # ---- light from the sun via the next vertex
-        nee = (order[idx] + 1 >= first) & (order[idx] + 1 <= limit)
+        nee = (paths.order[idx] + 1 >= first) & (paths.order[idx] + 1 <= limit)
         if np.any(nee):
             k = np.nonzero(nee)[0]
-            radiance[idx[k]] += weight[idx[k]] * _next_event(atm, w, p[k], dd[k], s[k], length[k], ground[k],
-                                                             t_nodes[k], tau[k], rng)
-        # ---- the next vertex, for the orders after it
-        alive = order[idx] + 2 <= limit
-        trans = np.exp(-tau[:, -1])
+            radiance[idx[k]] += paths.weight[idx[k]] * _next_event(atm, w, p[k], dd[k], s[k], length[k], ground[k],
+                                                                   t_nodes[k], tau[k], rng)
+        alive = paths.order[idx] + 2 <= limit
         absorbed = -np.expm1(-tau[:, -1])
         p_collide = np.where(absorbed > 0.0, np.where(ground, np.maximum(absorbed, 0.5), 1.0), 0.0)
         collide = alive & (rng.random(idx.size) < p_collide)
         if np.any(collide):
             ci = np.nonzero(collide)[0]
-            g = idx[ci]
-            t = _invert(t_nodes[ci], tau[ci], -np.log1p(-rng.random(ci.size) * absorbed[ci]))
-            x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ci], dd[ci], t_nodes[ci], tau[ci], t)
-            ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma, 1.0), 0.0)
-            pos[g] = x
-            weight[g] *= (b_r + b_m) * absorbed[ci] * ratio / p_collide[ci]
-            order[g] += 1
-            scat = (b_r + b_m) > 0.0
-            weight[g[~scat]] = 0.0
-            if np.any(scat):
-                gs = g[scat]
-                d[gs], ratio = _new_direction(atm, w, d[gs], sun[gs], b_r[scat], b_m[scat], rng)
-                weight[gs] *= ratio
+            _collide(atm, w, paths, idx[ci], p[ci], dd[ci], sun, t_nodes[ci], tau[ci], absorbed[ci],
+                     p_collide[ci], rng)
         hit = alive & ~collide & ground
         alive &= collide | hit
         if np.any(hit):
             gi = np.nonzero(hit)[0]
-            g = idx[gi]
-            x = p[gi] + t_ground[gi, None] * dd[gi]
-            normal = x / np.linalg.norm(x, axis=1, keepdims=True)
-            pos[g] = normal * atm.bottom_radius_m
-            d[g], ratio = _ground_direction(atm, w, normal, sun[g], rng)
-            weight[g] *= trans[gi] / (1.0 - p_collide[gi]) * albedo * ratio
-            order[g] += 1
-        first_event = alive & (order[idx] == 1)
-        weight_first[idx[first_event]] = weight[idx[first_event]]
-
-        # ---- termination: zero weight, Russian roulette past ROULETTE_ORDER events
-        alive &= weight[idx] > 0.0
-        rr = alive & (order[idx] >= ROULETTE_ORDER)
-        if np.any(rr):
-            g = idx[rr]
-            q = np.clip(weight[g] / weight_first[g], ROULETTE_MIN, 1.0)
-            survive = rng.random(q.size) < q
-            weight[g] /= q
-            alive[np.nonzero(rr)[0][~survive]] = False
-        idx = idx[alive]
+            _bounce(atm, w, paths, idx[gi], p[gi] + t_ground[gi, None] * dd[gi], sun,
+                    np.exp(-tau[gi, -1]) / (1.0 - p_collide[gi]), rng)
+        first_event = alive & (paths.order[idx] == 1)
+        paths.weight_first[idx[first_event]] = paths.weight[idx[first_event]]
+        idx = idx[_roulette(paths, idx, alive, rng)]
     return radiance
+
+
+@dataclass
+class _Paths:
+    """The state of the paths being traced, one row each: last vertex [m], direction, weight, weight after the
+    first event (Russian roulette's reference), events so far."""
+
+    pos: np.ndarray
+    d: np.ndarray
+    weight: np.ndarray
+    weight_first: np.ndarray
+    order: np.ndarray
+
+
+def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, rng):
+    """A collision along the segments p + t d of the paths ``g`` (forced: probability ``p_collide``), drawn
+    from the tabulated optical depth; the weight takes beta_scat exp(-tau) over the density sampled (exact tau
+    to the point, :func:`_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
+    t = _invert(t_nodes, tau, -np.log1p(-rng.random(len(g)) * absorbed))
+    x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p, d, t_nodes, tau, t)
+    ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma, 1.0), 0.0)
+    paths.pos[g] = x
+    paths.weight[g] *= (b_r + b_m) * absorbed * ratio / p_collide
+    paths.order[g] += 1
+    scat = (b_r + b_m) > 0.0
+    paths.weight[g[~scat]] = 0.0
+    if np.any(scat):
+        gs = g[scat]
+        paths.d[gs], ratio = _new_direction(atm, w, paths.d[gs], sun[gs], b_r[scat], b_m[scat], rng)
+        paths.weight[gs] *= ratio
+
+
+def _bounce(atm, w, paths, g, x, sun, weight, rng):
+    """The paths ``g`` reach the ground at x (the segment's transmittance over the probability of no collision,
+    ``weight``): reflected by the Lambertian ground of albedo a, a new direction from :func:`_ground_direction`."""
+    normal = x / np.linalg.norm(x, axis=1, keepdims=True)
+    paths.pos[g] = normal * atm.bottom_radius_m
+    paths.d[g], ratio = _ground_direction(atm, w, normal, sun[g], rng)
+    paths.weight[g] *= weight * float(atm.ground_albedo[w]) * ratio
+    paths.order[g] += 1
+
+
+def _roulette(paths, idx, alive, rng):
+    """Which of the paths ``idx`` go on (a mask): those ``alive`` with a weight, past ROULETTE_ORDER events each
+    surviving with probability weight / weight after the first event (at least ROULETTE_MIN), its weight
+    divided by that probability."""
+    alive = alive & (paths.weight[idx] > 0.0)
+    rr = alive & (paths.order[idx] >= ROULETTE_ORDER)
+    if np.any(rr):
+        g = idx[rr]
+        q = np.clip(paths.weight[g] / paths.weight_first[g], ROULETTE_MIN, 1.0)
+        survive = rng.random(q.size) < q
+        paths.weight[g] /= q
+        alive[np.nonzero(rr)[0][~survive]] = False
+    return alive
