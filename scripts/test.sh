@@ -13,5 +13,5 @@ if [ ${#need[@]} -gt 0 ]; then
 fi
 python3 -m pip install -q --disable-pip-version-check -e ".[test]"
 export VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow
-python3 -m pytest -q
-python3 -m pytest -q -m slow
+python3 -m pytest -q --durations=10
+python3 -m pytest -q -m slow --durations=15
