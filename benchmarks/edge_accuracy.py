@@ -12,18 +12,14 @@ rays and wavelengths where the reference is above 1e-6 of its largest value, and
 relative standard error (the noise floor of the comparison).
 """
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from planetviz.reference import solve  # noqa: E402
-from planetviz.tables import QUALITY, TableCache, precompute  # noqa: E402
-from planetviz.tables.evaluator import sky_radiance  # noqa: E402
-from test_stability import EDGES, _edge  # noqa: E402
+from planetviz.reference import solve
+from planetviz.tables import QUALITY, TableCache, precompute
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.validation import EDGE_NAMES, edge_atmosphere
 
 
 def rays(atm):
@@ -48,14 +44,14 @@ def main():
     ap.add_argument("--samples", type=int, default=4096)
     ap.add_argument("names", nargs="*", help="edge atmospheres to run (default: all)")
     args = ap.parse_args()
-    names = args.names or [e if isinstance(e, str) else e.values[0] for e in EDGES]
+    names = args.names or list(EDGE_NAMES)
     print("| atmosphere | max relative difference | RMS | reference's largest relative standard error | "
           "precompute s | orders |")
     print("|---|---|---|---|---|---|")
     for name in names:
         if name == "64 wavelengths":
             continue
-        atm = _edge(name)
+        atm = edge_atmosphere(name)
         t0 = time.time()
         tables = precompute(atm, QUALITY[args.quality], cache=TableCache())
         seconds = time.time() - t0

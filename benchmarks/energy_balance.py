@@ -14,23 +14,17 @@ Prints, per preset and wavelength, the tables' flux, the reference's with its st
 
 ``--balance`` needs no reference: the ground black and the sun 60 deg up, every photon either leaves at the top
 or reaches the ground, so mu_s = F_up(top) + E_sky(ground) + E_sun(ground) per unit solar irradiance, each flux
-from the tables (``flux_balance`` in tests/test_stability.py); it prints their sum over mu_s (Earth: 1.000 / 0.999 /
+from the tables (``planetviz.validation.flux_balance``); it prints their sum over mu_s (Earth: 1.000 / 0.999 /
 0.997 at standard), faster than the reference for sweeping sizes.
 """
 import argparse
-import sys
 import time
 from dataclasses import fields, replace
-from pathlib import Path
 
-import numpy as np
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from planetviz.reference import solve  # noqa: E402
-from planetviz.tables import QUALITY, precompute  # noqa: E402
-from planetviz.tables.evaluator import sky_radiance  # noqa: E402
-from test_stability import _conservative, flux_balance, upward_flux_at_the_top  # noqa: E402
+from planetviz.reference import solve
+from planetviz.tables import QUALITY, precompute
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.validation import conservative_atmosphere, flux_balance, upward_flux_at_the_top
 
 
 def sizes(quality, settings):
@@ -61,7 +55,7 @@ def main():
         print("| preset | orders | precompute s | balance per wavelength |")
         print("|---|---|---|---|")
         for name in args.presets:
-            atm = _conservative(preset=name, albedo=0.0)
+            atm = conservative_atmosphere(preset=name, albedo=0.0)
             start = time.perf_counter()
             tables = precompute(atm, table_sizes)
             seconds = time.perf_counter() - start
@@ -71,7 +65,7 @@ def main():
     print("| preset | orders | precompute s | wavelength nm | tables | reference | tables / reference |")
     print("|---|---|---|---|---|---|---|")
     for name in args.presets:
-        atm = _conservative(preset=name)
+        atm = conservative_atmosphere(preset=name)
         start = time.perf_counter()
         tables = precompute(atm, table_sizes)
         seconds = time.perf_counter() - start

@@ -131,10 +131,7 @@ def test_a_camera_metres_up_is_drawn_where_it_is(scenes, shading):
 def test_sixty_four_wavelengths_render_as_the_evaluator_says():
     # The most wavelengths the renderer takes (16 groups of 4: MAX_GROUPS): 22 read-back passes, every one of
     # them against the evaluator on the same tables, per pixel and per vertex (bound as above).
-    import sys
-    from pathlib import Path
-    sys.path.insert(0, str(Path(__file__).parent))
-    from test_stability import spectral_earth
+    from planetviz.validation import spectral_earth
     from planetviz import Atmosphere
     atm = Atmosphere.from_dict(spectral_earth(64))
     for shading in ("pixel", "vertex"):

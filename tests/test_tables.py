@@ -280,8 +280,8 @@ def test_the_orders_beyond_the_cap_are_added_as_a_geometric_tail():
     # tail) miss up to 32% at 440 nm, which fails (cut at 16 the tail leaves 10%: q has not settled yet).
     from planetviz.tables.multiple import multiple_scattering
     sys.path.insert(0, str(Path(__file__).parent))
-    from test_stability import _conservative
-    atm = _conservative(preset="exo-co2-thick")
+    from planetviz.validation import conservative_atmosphere
+    atm = conservative_atmosphere(preset="exo-co2-thick")
     draft = QUALITY["draft"]
     single = precompute(atm, draft, multiple=False)
 
