@@ -321,14 +321,35 @@ def from_dict(data: dict) -> Atmosphere:
     bottom = r.number("bottom_radius_m", *LIMITS["bottom_radius_m"])
     top = r.number("top_radius_m", bottom, 2.0 * bottom, lo_open=True)
     albedo = r.numbers("ground_albedo", 0.0, 1.0)
-    c_lo, c_hi = LIMITS["coefficient_m"]
+    rayleigh = _rayleigh(r.get("rayleigh"), n)
+    mie = _mie(r.get("mie"), n)
+    absorption = _absorption(r.get("absorption"), n)
+    star = _star(r.get("star")) if r.has("star") else Star()
+    air_mass = r.string("air_mass", ("geometric", "pickering"), optional=True, default="geometric")
+    r.done()
+    atm = object.__new__(Atmosphere)
+    for key, value in dict(name=name, wavelengths_nm=wl, bottom_radius_m=bottom, top_radius_m=top,
+                           ground_albedo=albedo, rayleigh=rayleigh, mie=mie,
+                           absorption=absorption, star=star, air_mass=air_mass).items():
+        object.__setattr__(atm, key, value)
+    return atm
 
-    rr = _Reader(r.get("rayleigh"), "rayleigh", n)
+
+def _rayleigh(data, n: int) -> Rayleigh:
+    """The ``rayleigh`` object: scattering per wavelength, its profile and phase function."""
+    c_lo, c_hi = LIMITS["coefficient_m"]
+    rr = _Reader(data, "rayleigh", n)
     rayleigh = Rayleigh(rr.numbers("scattering_m", c_lo, c_hi), _profile(rr.get("profile"), "rayleigh.profile"),
                         rr.string("phase", ("rayleigh", "penndorf")))
     rr.done()
+    return rayleigh
 
-    mr = _Reader(r.get("mie"), "mie", n)
+
+def _mie(data, n: int) -> Mie:
+    """The ``mie`` object: scattering and extinction per wavelength (extinction >= scattering), its profile and
+    double Henyey-Greenstein phase."""
+    c_lo, c_hi = LIMITS["coefficient_m"]
+    mr = _Reader(data, "mie", n)
     scat = mr.numbers("scattering_m", c_lo, c_hi)
     ext = mr.numbers("extinction_m", c_lo, c_hi)
     for i, (s, e) in enumerate(zip(scat, ext)):
@@ -343,33 +364,30 @@ def from_dict(data: dict) -> Atmosphere:
     alpha = pr.numbers("alpha", 0.0, 1.0)
     pr.done()
     mr.done()
-    mie = Mie(scat, ext, profile, g1, g2, alpha)
+    return Mie(scat, ext, profile, g1, g2, alpha)
 
-    layers = r.get("absorption")
+
+def _absorption(layers, n: int) -> tuple:
+    """The ``absorption`` list: absorbing layers, each an extinction per wavelength and a profile."""
     if not isinstance(layers, list):
         raise AtmosphereError("absorption", "must be a list of layers (possibly empty)")
-    absorption = []
+    c_lo, c_hi = LIMITS["coefficient_m"]
+    out = []
     for i, layer in enumerate(layers):
         ar = _Reader(layer, f"absorption[{i}]", n)
-        absorption.append(Absorption(ar.numbers("extinction_m", c_lo, c_hi),
-                                     _profile(ar.get("profile"), f"absorption[{i}].profile")))
+        out.append(Absorption(ar.numbers("extinction_m", c_lo, c_hi),
+                              _profile(ar.get("profile"), f"absorption[{i}].profile")))
         ar.done()
+    return tuple(out)
 
-    star = Star()
-    if r.has("star"):
-        sr = _Reader(r.get("star"), "star")
-        kind = sr.string("type", ("sun", "blackbody"))
-        temp = sr.number("temperature_k", *LIMITS["star_temperature_k"]) if kind == "blackbody" else None
-        sr.done()
-        star = Star(kind, temp)
-    air_mass = r.string("air_mass", ("geometric", "pickering"), optional=True, default="geometric")
-    r.done()
-    atm = object.__new__(Atmosphere)
-    for key, value in dict(name=name, wavelengths_nm=wl, bottom_radius_m=bottom, top_radius_m=top,
-                           ground_albedo=albedo, rayleigh=rayleigh, mie=mie,
-                           absorption=tuple(absorption), star=star, air_mass=air_mass).items():
-        object.__setattr__(atm, key, value)
-    return atm
+
+def _star(data) -> Star:
+    """The ``star`` object: the sun, or a black body of a temperature."""
+    sr = _Reader(data, "star")
+    kind = sr.string("type", ("sun", "blackbody"))
+    temp = sr.number("temperature_k", *LIMITS["star_temperature_k"]) if kind == "blackbody" else None
+    sr.done()
+    return Star(kind, temp)
 
 
 def to_dict(atm: Atmosphere) -> dict:

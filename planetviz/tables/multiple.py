@@ -310,7 +310,14 @@ def geometric_tail(now, before, q_max=0.99):
 def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
                         progress=None):
     """(multiple-scattering tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by molecules and by
-    particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used)."""
+    particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used).
+
+    Steps: the incident light's and the irradiance's direction quadratures (``_Incident``); the scattering
+    density's grid and phase kernels (``_DensityKernels``); the integration paths of S's texels
+    (``_ray_paths``); then order by order the incident light of the order before, the scattering density J
+    (``_DensityKernels.density``), S integrated along the texels' rays, the irradiance, until the geometric tail
+    of the orders is below ``tolerance`` of the total (or at ``max_orders``, where the tail is added).
+    """
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
     shape = r.shape
     W = atm.n_wavelengths
@@ -335,20 +342,8 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
     # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_factors``)
     lobe_factors = [f[None, :, None, :] for f in lobe_irradiance_factors(atm, dirs[up], cos_weights, mu_s_irr[0])]
-
-    # Scattering density on its own grid (S's mu_s texels and r rows, THICK_DENSITY_ROWS times as many rows in
-    # a thick atmosphere): Rayleigh-like phase (1 + A c^2) / (4 pi (1 + A / 3)) by moments, Mie by kernels.
-    a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
-    mu_j, nu_j = density_grid(mu_s[:1, 0, 0, :], size[2], size[0])                 # the same at every r
-    views = np.broadcast_to(_view_vectors(mu_j, mu_s[:1], nu_j), density_shape + (3,))
-    full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])])
-    outer = np.einsum("ki,kj->kij", full_dirs, full_dirs)
-    vv = np.einsum("...i,...j->...ij", views, views)
-    beta_r = np.asarray(atm.rayleigh.scattering_m)
-    beta_m = np.asarray(atm.mie.scattering_m)
-    mie_kernels = _mie_kernels(atm, views, dirs, weights)
-    forward_j = forward_factor(atm, nu_j)                      # (1, n_mu, n_nu, n_mu_s, W)
-    forward = forward_factor(atm, nu)                          # the same at S's texels
+    kernels = _DensityKernels(atm, size, mu_s, dirs, weights, density_shape)
+    forward = forward_factor(atm, nu)                          # F(nu) at S's texels
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders;
     # rays longer than the ground's horizontal ray get LONG_RAY_NODE_FACTOR times the nodes.
@@ -363,16 +358,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         L = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev, J_prev)  # (n_r, n_mu_s, K, W)
         molecules, particles = sky_above.sky_parts(tables, atm, order - 1, ms_prev)
         e = np.einsum("k,abkw->abw", cos_weights, molecules + lobe_factors[order > 2] * particles)
-        L_full = np.concatenate([L, L], axis=2) * np.concatenate([weights, weights])[:, None]
-        m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
-        m2 = np.einsum("kxy,abkw->abxyw", outer, L_full)                           # (n_r, n_mu_s, 3, 3, W)
-        quad = np.einsum("abcdxy,adxyw->abcdw", vv, m2)
-        # J per unit density of each component (its angular part varies slowly with altitude; the
-        # density, which does not, is applied exactly at every integration node).
-        J = np.empty(density_shape + (2 * W,), np.float32)
-        J[..., :W] = beta_r * (m0[:, None, None] + a_coef * quad) / (4 * np.pi * (1 + a_coef / 3))
-        for w in range(W):
-            J[..., W + w] = beta_m[w] * np.einsum("abcdk,adk->abcd", mie_kernels[w], L[..., w]) / forward_j[..., w]
+        J = kernels.density(L)
         S = np.empty(shape + (2 * W,))                                            # [S_R, S_M / F(nu)]
         for rays, stencil, node_weight in paths:
             S[rays] = np.einsum("...kw,...kw->...w", node_weight, stencil.apply(J))
@@ -397,3 +383,43 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     if progress:
         progress(f"multiple scattering, {order} orders", 1.0)
     return total[..., :W], total[..., W:], irradiance, order
+
+
+class _DensityKernels:
+    """The scattering density J on its own grid (S's mu_s texels and r rows, THICK_DENSITY_ROWS times as many
+    rows in a thick atmosphere), per unit density of each component: the Rayleigh-like phase
+    (1 + A c^2) / (4 pi (1 + A / 3)) by moments of the incident light, Mie by renormalised kernels
+    (``_mie_kernels``), the particles' part divided by F(nu) (``forward_factor``)."""
+
+    def __init__(self, atm, size, mu_s, dirs, weights, density_shape):
+        self.a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
+        mu_j, nu_j = density_grid(mu_s[:1, 0, 0, :], size[2], size[0])                 # the same at every r
+        views = np.broadcast_to(_view_vectors(mu_j, mu_s[:1], nu_j), density_shape + (3,))
+        full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])])
+        self.outer = np.einsum("ki,kj->kij", full_dirs, full_dirs)
+        self.vv = np.einsum("...i,...j->...ij", views, views)
+        self.beta_r = np.asarray(atm.rayleigh.scattering_m)
+        self.beta_m = np.asarray(atm.mie.scattering_m)
+        self.mie_kernels = _mie_kernels(atm, views, dirs, weights)
+        self.forward_j = forward_factor(atm, nu_j)                      # (1, n_mu, n_nu, n_mu_s, W)
+        self.weights = weights
+        self.shape = density_shape
+        self.W = atm.n_wavelengths
+
+    def density(self, L):
+        """J (density grid + (2W,), float32: [J_R, J_M / F]) from the incident light L (n_r, n_mu_s, K, W) on
+        the quadrature's directions (their mirror images about the sun's plane included by symmetry).
+
+        J per unit density of each component: its angular part varies slowly with altitude; the density,
+        which does not, is applied exactly at every integration node."""
+        W = self.W
+        L_full = np.concatenate([L, L], axis=2) * np.concatenate([self.weights, self.weights])[:, None]
+        m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
+        m2 = np.einsum("kxy,abkw->abxyw", self.outer, L_full)                      # (n_r, n_mu_s, 3, 3, W)
+        quad = np.einsum("abcdxy,adxyw->abcdw", self.vv, m2)
+        J = np.empty(self.shape + (2 * W,), np.float32)
+        J[..., :W] = self.beta_r * (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
+        for w in range(W):
+            J[..., W + w] = self.beta_m[w] * np.einsum("abcdk,adk->abcd", self.mie_kernels[w], L[..., w]) \
+                / self.forward_j[..., w]
+        return J
