@@ -1,4 +1,4 @@
-// The table-based model along one view ray, in either stage (after atmosphere_functions.glsl): where the ray
+// The table-based model along one view ray, in either stage (after phased_scattering.glsl): where the ray
 // enters the atmosphere, and the three terms whose sum is its radiance, as the NumPy evaluator computes it
 // (planetviz/tables/evaluator.py, sky_radiance):
 //   L = inscatter + albedo * ground_light + [the ray is in the sun's disc] sun_transmittance / sun_solid_angle

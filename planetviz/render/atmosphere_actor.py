@@ -31,7 +31,8 @@ from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camer
                        frame_key, groups_array)
 
 #: The GLSL both table-based actors share, in order (each file declares what the later ones use).
-TABLE_SHADERS = ("common.glsl", "atmosphere_functions.glsl", "atmosphere_ray.glsl")
+TABLE_SHADERS = ("common.glsl", "table_lookup.glsl", "near_ground.glsl", "horizon.glsl", "phased_scattering.glsl",
+                 "atmosphere_ray.glsl")
 
 
 #: Altitudes at which the shaders get the density profiles (density_texture, read by density_at in GLSL).
@@ -39,7 +40,7 @@ DENSITY_TABLE = 1024
 
 
 def ray_quadrature_uniforms(atm, tables):
-    """What shaders/atmosphere_functions.glsl's quadratures along rays (near_ground_single_scattering,
+    """What shaders/near_ground.glsl's and shaders/horizon.glsl's quadratures along rays (near_ground_single_scattering,
     horizon_single_scattering) take besides :func:`density_image`: the scattering coefficients, the altitude
     below which ground rays are integrated and whether the rays next to the horizon are."""
     per_group = lambda values: groups_array(pad_groups(values))

@@ -2,7 +2,7 @@
 
 Wavelengths go four to a texel (RGBA) in groups; group g holds wavelengths 4g .. 4g + 3 and the groups are
 stacked along the r axis (y of the 2D tables, z of the 3D ones). The shaders read a group only between its own
-texel centres (``texture_group`` and ``get_scattering`` in shaders/atmosphere_functions.glsl), so filtering never
+texel centres (``texture_group`` and ``get_scattering`` in shaders/table_lookup.glsl), so filtering never
 mixes two groups. Float tables stay 32-bit (GL_RGBA32F): half floats would cost up to 2^-11 = 0.05% per texel,
 which the 1% agreement test could absorb, but the textures are 40 MB at standard quality, so nothing is gained.
 """

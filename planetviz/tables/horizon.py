@@ -1,5 +1,5 @@
 """Single scattering of rays next to the horizon's direction by quadrature along the ray, blended into what the
-tables read (GLSL twins: ``horizon_share`` and ``horizon_single_scattering`` in shaders/atmosphere_functions.glsl).
+tables read (GLSL twins: ``horizon_share`` and ``horizon_single_scattering`` in shaders/horizon.glsl).
 
 Why. Next to the horizon the single scattering changes fastest with the camera's altitude, the sun's elevation
 and its azimuth (a ray grazing the ground from high up crosses the whole atmosphere, and the sun's elevation and

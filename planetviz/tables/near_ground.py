@@ -1,5 +1,5 @@
 """Single scattering of ground rays from cameras near the ground, by quadrature along the ray instead of the
-tables (GLSL twin: ``near_ground_single_scattering`` in shaders/atmosphere_functions.glsl).
+tables (GLSL twin: ``near_ground_single_scattering`` in shaders/near_ground.glsl).
 
 Why. A ground ray from a camera between the single-scattering tables' rows 0 and ``NEAR_GROUND_ROWS`` is read by
 interpolating in r between the rays of neighbouring rows at the same u_mu: near the horizon row 0's ground rays
