@@ -1,4 +1,4 @@
-"""Numerical stability under stress (issue 7, first part): generated cameras, views and suns anywhere the API
+"""Numerical stability under stress: generated cameras, views and suns anywhere the API
 accepts them, plus the fixed worst cases, for the table evaluator, the quick-view integrator and the reference
 solver.
 
@@ -262,11 +262,10 @@ def test_ground_rays_from_near_the_ground_match_the_reference(quality, alt, boun
     # integrates along the ray: against the reference quadrature, the sun 5, 20 and 60 deg up, 5 azimuths.
     # Measured, draft: 0.07%, 0.38%, 0.57%, 0.51%, 0.87%, 0.58%, 0.38% (the draft transmittance table's error; next
     # to the horizon, the sun 5 deg up); bound 1.5%, the draft tables' error elsewhere. Standard, between its
-    # rows 2 and 5 (the rows up to 2 were integrated before): 0.11%, 0.11%; bound 0.5%, under the 0.6-0.7% the
-    # standard tables read elsewhere. Read from the tables between those rows, as before (NEAR_GROUND_ROWS = 2):
-    # draft 1.35% and 1.88% from 3 km and 6 km, standard 1.70% and 0.81% (HORIZON_SEAM from 300 m-1.5 km, which
-    # the seam test did not sample). From 2 m and 100 m before near_ground.py (lookup.ground_row_factor) 5.9%
-    # and 5.0%; without the factor 46% and 26%.
+    # rows 2 and 5: 0.11%, 0.11%; bound 0.5%, under the 0.6-0.7% the standard tables read elsewhere. Read from the
+    # tables between those rows (NEAR_GROUND_ROWS = 2): draft 1.35% and 1.88% from 3 km and 6 km, standard 1.70%
+    # and 0.81%. From 2 m and 100 m, read from the tables with lookup.ground_row_factor: 5.9% and 5.0%; without
+    # the factor 46% and 26%.
     mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
     mus = np.concatenate([mu_h - np.logspace(-6, -2, 9), np.linspace(-1, mu_h - 0.02, 8)])
     assert _single_scattering_error(alt, mus, _tables(quality)).max() < bound
@@ -425,9 +424,8 @@ def _tables(quality):
     return TABLES if quality == "draft" else precompute(EARTH, QUALITY[quality])
 
 
-#: Camera altitudes of the seam test: the six it began with and four more, 300 m, 3 km and 7 km (where the
-#: standard tables failed it at table format 16) and 20 km (where they passed it at 1.24x; HORIZON_SEAM,
-#: docs/stability.md).
+#: Camera altitudes of the seam test, the ground to 50 km; 300 m, 3 km, 7 km and 20 km are where the tables alone
+#: read the sky next to the horizon worst against the rest (docs/stability.md).
 SEAM_ALTITUDES = (2.0, 100.0, 300.0, 1e3, 3e3, 7e3, 1e4, 2e4, 3e4, 5e4)
 
 
@@ -446,13 +444,11 @@ def test_no_seam_at_the_horizon_beyond_the_tables_interpolation_error(quality, a
     # 0.14% / 0.85% / 12.7%; standard (8x48x128x32): 2 m 0.13% / 0.12% / 0.58%, 100 m 0.18% / 0.13% / 0.65%,
     # 300 m 0.15% / 0.15% / 0.40%, 1 km 0.15% / 0.16% / 0.32% (0.50x), 3 km 0.11% / 0.16% / 0.41%, 7 km 0.05% /
     # 0.07% / 0.38%, 10 km 0.05% / 0.05% / 0.50%, 20 km 0.03% / 0.13% / 0.53%, 30 km 0.04% / 0.18% / 0.56%, 50 km
-    # 0.06% / 0.96% / 2.44%. Read from the tables (as before horizon.py) the draft tables failed 2 m (2.5% next to
-    # the horizon against 1.75% elsewhere), 300 m (2.3% / 1.5%), 1 km (1.9% / 1.4%), 20 km (4.4% / 3.1%) and 30 km
-    # (6.9% / 5.4%): their coarse mu_s, r and nu axes, where single scattering changes fastest; the standard tables
-    # passed at most 1.22x (10 km) after table format 17, which fixed 300 m, 3 km and 7 km (docs/stability.md,
-    # HORIZON_SEAM). The rays next to the horizon must also be within 1.5% outright: at 50 km the rest of the sky's
-    # 2.44% (standard; 12.7% draft, its 16 r rows) would let a seam of 3% (15%) pass the ratio (the rays grazing the
-    # ground from there read 3.03% from the standard tables at format 11, 14.9% from the draft tables at 17).
+    # 0.06% / 0.96% / 2.44%. Read from the tables alone (without tables/horizon.py) the draft tables fail 2 m (2.5%
+    # next to the horizon against 1.75% elsewhere), 300 m (2.3% / 1.5%), 1 km (1.9% / 1.4%), 20 km (4.4% / 3.1%) and
+    # 30 km (6.9% / 5.4%): their coarse mu_s, r and nu axes, where single scattering changes fastest. The rays next
+    # to the horizon must also be within 1.5% outright: at 50 km the rest of the sky's 2.44% (standard; 12.7% draft,
+    # its 16 r rows) would let a seam of 3% (15%) pass the ratio.
     tables = _tables(quality)
     mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
     d = np.logspace(-6, -2, 9)
@@ -557,12 +553,12 @@ def test_energy_is_conserved_with_no_absorption_and_a_white_ground():
 def test_a_thick_atmosphere_over_a_black_ground_keeps_most_of_its_energy():
     # The 10-bar CO2 planet (tau = 4 at 440 nm) made conservative over a black ground, the sun 60 deg up: the
     # flux leaving at the top plus the flux reaching the ground must be the sun's (flux_balance = 1; the Earth
-    # reads 1.000 / 0.999 / 0.997 at standard). Measured, standard tables at table format 16: 0.992 / 0.980 /
-    # 0.964 at 680 / 550 / 440 nm (a thick atmosphere's scattering density iterated from itself on its own rows,
-    # multiple.THICK_DENSITY_ROWS, and 16 r rows in its multiple-scattering table, precompute.sizes_for). At
-    # format 15, reading the incident light from S (the views down squeezed into one texel interval of S's
-    # ground half, the density interpolated between S's 8 rows): 0.983 / 0.939 / 0.851, which fails; 0.899 at
-    # 440 nm with only the views down integrated, 0.952 with the density's rows but S's 8. Bound 0.93 at every
+    # reads 1.000 / 0.999 / 0.997 at standard). Measured, standard tables: 0.992 / 0.980 / 0.964 at 680 / 550 /
+    # 440 nm (a thick atmosphere's scattering density iterated from itself on its own rows,
+    # multiple.THICK_DENSITY_ROWS, and 16 r rows in its multiple-scattering table, precompute.sizes_for). Reading
+    # the incident light from S instead (the views down squeezed into one texel interval of S's ground half, the
+    # density interpolated between S's 8 rows) gives 0.983 / 0.939 / 0.851, which fails; 0.899 at 440 nm with only
+    # the views down integrated, 0.952 with the density's rows but S's 8. Bound 0.93 at every
     # wavelength; what is left (3.6% at 440 nm) is the tables' resolution (32 density rows over S's 8: 0.966).
     # Above 1.003 the tables would create energy.
     atm = conservative_atmosphere(preset="exo-co2-thick", albedo=0.0)
@@ -575,8 +571,8 @@ def test_a_thick_atmosphere_over_a_black_ground_keeps_most_of_its_energy():
 def test_energy_matches_the_reference_solver(radius):
     # The upward flux of the conservative atmosphere from the tables against the Monte Carlo reference solver,
     # two independent computations. Bound: 4 standard errors of the reference plus 1% (the tables' accuracy).
-    # On the 1e8 m planet the tables' 440 nm flux is 0.977 against 1.001 (FLAT_PLANET_LOSES_ENERGY: 0.950 with the
-    # multiple-scattering tables' former 32 mu texels, which failed this), at the bound's edge (docs/stability.md).
+    # On the 1e8 m planet the tables' 440 nm flux is 0.977 against 1.001, at the bound's edge (0.950 with 32 mu
+    # texels in the multiple-scattering tables, which fails; docs/stability.md).
     atm = conservative_atmosphere(radius)
     want, error = _reference_flux(atm)
     got = _table_flux(atm)

@@ -1,4 +1,4 @@
-"""Stability of the GLSL paths under generated input (issue 7): cameras from 1 mm to 1e12 m above the ground,
+"""Stability of the GLSL paths under generated input: cameras from 1 mm to 1e12 m above the ground,
 any view, any sun, any field of view; the per-pixel shader and the per-vertex one (one vertex per sampled pixel)
 read back as float32 and compared with the float64 NumPy evaluator on the same tables.
 
@@ -21,7 +21,7 @@ SIZE = (24, 18)
 FAST, LONG = 20, 300
 #: float32 against float64: the shader computes the ray, its (a, mu, mu_s, nu) and the texture coordinates in
 #: float32 (relative 6e-8; the camera's height arrives as an altitude computed in double, not as a float32
-#: radius, which is 0.5 m coarse at 6.4e6 m: CAMERA_RADIUS_FLOAT32, fixed) and interpolates the same float32
+#: radius, which is 0.5 m coarse at 6.4e6 m) and interpolates the same float32
 #: tables; that moves a texture coordinate by < 1e-4 of a texel, where the tables change by at most a factor 2
 #: per texel, and each exp of an optical depth up to ~30 carries float32's 1e-7: < 1e-3 relative for most rays.
 #: Rays to ground a few hundred metres away from a camera metres above it amplify it (their inscatter is
@@ -97,8 +97,8 @@ def shader_property(n_examples, shading):
     # depth fell beyond the far plane; it is drawn at mid-depth now)
     @example(alt=10.0 ** 0.5, up=np.array([0.0, 1.0, 0.0]), view=np.array([0.0, 0.0, 1.0]),
              sun=np.array([0.0, 0.0, 1.0]), fov=10.0)
-    # CI's falsifying example: 3.16 m up, the sun on the horizon ahead, ground 650 m away 3.1% off; all of it
-    # the camera's float32 radius (3.0 m), before the altitude was passed apart (CAMERA_RADIUS_FLOAT32)
+    # A hard case: 3.16 m up, the sun on the horizon ahead, the ground 650 m away; with the camera's float32
+    # radius (3.0 m) in place of its altitude it reads 3.1% off
     def check(scenes, alt, up, view, sun, fov):
         scene = scenes[shading]
         r = scene.atmosphere.bottom_radius_m + alt
@@ -116,10 +116,10 @@ test_generated_views_per_vertex_shader_long = pytest.mark.slow(shader_property(L
 
 @pytest.mark.parametrize("shading", ["pixel", "vertex"])
 def test_a_camera_metres_up_is_drawn_where_it_is(scenes, shading):
-    # The issue's ground camera, 1.7 m up, the sun on the horizon ahead (the ground's own light is then small
-    # and the aerial perspective of the near ground, proportional to the camera's height, dominates), against
-    # the evaluator at the true camera. Bound as the generated views'. CAMERA_RADIUS_FLOAT32: with the camera's
-    # radius passed as a float32 (drawn from 1.5 m) this was 5.2% off; the altitude is passed in double now.
+    # A ground camera 1.7 m up, the sun on the horizon ahead (the ground's own light is then small and the aerial
+    # perspective of the near ground, proportional to the camera's height, dominates), against the evaluator at
+    # the true camera. Bound as the generated views'. With the camera's radius passed as a float32 (drawn from
+    # 1.5 m) in place of its altitude in double, this reads 5.2% off.
     scene = scenes[shading]
     up, view = np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0])
     scene.set_view(up * (scene.atmosphere.bottom_radius_m + 1.7), view, fov=10.0)

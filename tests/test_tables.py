@@ -471,9 +471,9 @@ def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_sing
 def test_sky_irradiance_of_the_ground_is_the_tables_own_sky_integrated(name, elevation):
     # The irradiance table at the ground against the sky the same tables give (all orders), integrated with
     # its cosine over the upper hemisphere on 96x192 directions (Gauss-Legendre in cos(theta), midpoint in
-    # azimuth): the stage's own quadrature of E must agree with it. Measured since the particles' lobe is
-    # renormalised in that quadrature (table format 15): Mars, sun 60 deg up, +1.4% / +2.1% / +3.1% at 680 /
-    # 550 / 440 nm (-12% / -21% / -33% before: Mars dust's g = 0.91 lobe on 10x10 directions), 10 deg up
+    # azimuth): the stage's own quadrature of E must agree with it. Measured, with the particles' lobe
+    # renormalised in that quadrature: Mars, sun 60 deg up, +1.4% / +2.1% / +3.1% at 680 / 550 / 440 nm
+    # (-12% / -21% / -33% without the renormalisation: Mars dust's g = 0.91 lobe on 10x10 directions), 10 deg up
     # within 1.3%; Earth within 0.7% (60 deg) and 1.1% (sunset). Bound 5%: the smooth part of the sky under
     # the lobe is taken as constant over the grid's spacing (and the 96x192 integral resolves the dust's
     # aureole to ~1%).
@@ -499,13 +499,12 @@ def test_sky_irradiance_of_the_ground_is_the_tables_own_sky_integrated(name, ele
 def test_second_order_under_a_sharp_forward_lobe_matches_a_direct_integration():
     # Mars (95-97% of the phase in g = 0.86-0.91 lobes), from the ground looking 45 deg up away from the
     # sun: order 2 alone from the tables against a direct integration along the ray (the order-1 sky read
-    # from the same tables on a 32x64 direction grid at 16 points, exact transmittance). Before the forward
-    # lobe was factored out of the tables this ray read 3.3x the direct value (with Table 1's printed phase,
-    # one such lobe at 550 nm). Measured with the preset's Mie-derived phase: 8.3%, 7.3%, 7.0% below the
-    # direct value at 680, 550, 440 nm since the nu coordinate spans only what (mu, mu_s) allow (table format
-    # 11; 16.5%, 14.9%, 14.1% below with Bruneton's (nu + 1) / 2, whose slices outside that range held other
-    # geometries); 4.2%, 2.6%, 2.0% below since the scattering density has its own grid (table format 14).
-    # Bound 6%: it fails for each earlier defect.
+    # from the same tables on a 32x64 direction grid at 16 points, exact transmittance). Measured with the
+    # preset's Mie-derived phase: 4.2%, 2.6%, 2.0% below the direct value at 680, 550, 440 nm. Without the
+    # forward lobe factored out of the tables this ray reads 3.3x the direct value (Table 1's printed phase,
+    # one such lobe at 550 nm); with Bruneton's nu coordinate (nu + 1) / 2, whose slices outside the range
+    # (mu, mu_s) allow hold other geometries, 16.5%, 14.9%, 14.1% below; with the scattering density read on
+    # S's grid instead of its own, 8.3%, 7.3%, 7.0% below. Bound 6%: each of those designs fails it.
     from planetviz.optics.phase import rayleigh_phase
     from planetviz.reference import optical_depth
     from planetviz.tables.evaluator import _phased

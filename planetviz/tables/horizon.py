@@ -5,7 +5,7 @@ Why. Next to the horizon the single scattering changes fastest with the camera's
 and its azimuth (a ray grazing the ground from high up crosses the whole atmosphere, and the sun's elevation and
 transmittance change along it), so interpolating the 4D tables linearly is least accurate there: the draft
 tables read the rays within 1e-2 (in mu) of the horizon's direction 1.3-2.0x as far off as the rest of the sky
-(2 m, 300 m, 1 km, 15-40 km; HORIZON_SEAM, docs/stability.md), and every size that fixed it cost over draft's
+(2 m, 300 m, 1 km, 15-40 km; the seam test, docs/stability.md), and every table size that mends it costs over draft's
 1 s of precompute. In twilight (the sun 1-5 deg down) the tables read these rays 28-960% off (draft) and 4-41%
 (standard), where the twilight glow is.
 

@@ -94,7 +94,7 @@ def ground_row_factor(t, r, mu, intersects_ground, n_r):
     (1 - exp(-k tau_1)) / (f (1 - exp(-tau_1))), k / f where tau_1 = 0 (which also makes straight-down rays,
     whose length goes as f^2, right). Without it a camera 2 m up read single scattering just below the horizon
     25% off with standard tables (46% draft); with it 2.4% (5.9%), and 0.1% (0.4%) by near_ground.py's
-    quadrature (HORIZON_SEAM, docs/stability.md).
+    quadrature (the seam test, docs/stability.md).
     """
     r, mu = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float))
     h = np.sqrt(t.top * t.top - t.bottom * t.bottom)

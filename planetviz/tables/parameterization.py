@@ -228,14 +228,14 @@ def refine_dipping_rays(x, r, bottom, top):
     Next to the horizon 1 - x goes as the square of the lowest point's rho, so Bruneton's texels there are
     linear in the lowest point's altitude: from 30 km up some 1.6 km apart, across which the aerosol density at
     the lowest point changes by e^1.3, and the rays just above the horizon read 8.7% off against 1.4% for the
-    rest of the sky (standard tables; HORIZON_SEAM, docs/stability.md). The square root makes x linear in the
+    rest of the sky (standard tables; the seam test, docs/stability.md). The square root makes x linear in the
     lowest point's rho there, as the r axis is in rho; the t^2 term gives back the texels next to the horizontal:
     G'(1) = a / 2 + 2 (1 - a) = 3/4 (1/2 with sqrt(t) alone, which read the view 3 deg from the setting sun
     from 30 km 4.5% off, against 1.1% with Bruneton's x and 1.6% with this G). The square root is softened
     (S_e) for lowest points below LINEAR_ALTITUDE (R_t - R_b) (300 m for the Earth): a pure sqrt(t) put the
     first texel next to the horizon 250 m of lowest-point altitude away from 1.5-3 km up, across which the
     radiance is linear in that altitude, not in its square root, and read those rays 1.4% off against 0.7% for
-    the rest of the sky (HORIZON_SEAM at altitudes the seam test had not sampled)."""
+    the rest of the sky (the dense seam check, docs/benchmarks.md)."""
     x_p, w = dipping_pivot_and_weight(r, bottom, top)
     t = np.clip((1.0 - x) / np.maximum(1.0 - x_p, 1e-300), 0.0, 1.0)
     g = _dipping_g(t, w, _linear_share(r, bottom, top))

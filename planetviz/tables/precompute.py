@@ -155,7 +155,7 @@ def single_scattering(tables: Tables, atm, progress=None):
     Rays longer than the horizontal ray from the ground to the top (those that graze the planet from high up)
     get LONG_RAY_NODE_FACTOR times the nodes: with a low sun behind the camera the sunlight along them ends
     where they enter the planet's shadow, far away, a step that nodes at fixed places resolve poorly (from 50 km
-    such a ray read 3.0% off with 8 nodes per side, 0.8% with 16; HORIZON_SEAM, docs/stability.md)."""
+    such a ray reads 3.0% off with 8 nodes per side, 0.8% with 16; the seam test, docs/stability.md)."""
     r, mu, mu_s, nu, ground = scattering_grid(tables)
     n_r = r.shape[0]
     out_r = np.empty(r.shape + (atm.n_wavelengths,))
