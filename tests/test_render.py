@@ -47,12 +47,12 @@ def shader_matches_lut(scene, preset, tmp_path):
     hdr = scene.render_hdr()
     rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
     keep = away_from_sun(scene, rows, cols)
-    lut = tables_radiance(scene, preset, rows, cols, tmp_path).reshape(rows.shape + (3,))
+    want = tables_radiance(scene, preset, rows, cols, tmp_path).reshape(rows.shape + (3,))
     got = hdr.radiance[rows, cols]
-    seen = lut.max(-1) > 0
+    seen = want.max(-1) > 0
     assert keep.sum() > 100 and (seen & keep).sum() > 50
     assert np.array_equal(got.max(-1) > 0, seen)                  # the same pixels see the planet
-    return (np.abs(got - lut)[keep & seen] / lut[keep & seen]).max()
+    return (np.abs(got - want)[keep & seen] / want[keep & seen]).max()
 
 
 def away_from_sun(scene, rows, cols, degrees=1.0):
@@ -61,7 +61,7 @@ def away_from_sun(scene, rows, cols, degrees=1.0):
 
 
 @pytest.mark.parametrize("view", ["space", "ground", "aircraft", "twilight", "horizon"])
-def test_shader_radiance_matches_the_lut_command(earth, view, tmp_path):
+def test_shader_radiance_matches_the_tables_command(earth, view, tmp_path):
     # The shader and `planetviz radiance --method tables` evaluate the same formulas on the same float32 tables;
     # they differ by the shader's float32 arithmetic (ray set-up, the near-horizon mu mapping, S(x) - T S(y))
     # and, on GPUs, by texture filtering with 8-bit interpolation weights (an error of at most 1/512 of the
@@ -216,11 +216,11 @@ def test_no_jitter_two_metres_above_the_ground_and_no_jump_at_the_top(earth):
 
 
 
-def test_a_thick_planets_larger_multiple_table_renders_as_the_lut_command_reads_it(tmp_path):
+def test_a_thick_planets_larger_multiple_table_renders_as_the_tables_command_reads_it(tmp_path):
     # An optically thick atmosphere's multiple-scattering table has more r rows than its quality level's (16 at
     # draft's 8, precompute.sizes_for): the shader must take the table's size from the table, as the NumPy
     # evaluator does. The 10-bar CO2 planet from 10 km looking 10 deg down, the sun 30 deg up; bound and
-    # comparison as in test_shader_radiance_matches_the_lut_command (1%). Measured on llvmpipe: 9e-6.
+    # comparison as in test_shader_radiance_matches_the_tables_command (1%). Measured on llvmpipe: 9e-6.
     scene = Scene("exo-co2-thick", quality="draft", surface=None, off_screen=True, window_size=SIZE)
     try:
         scene.wait_for_tables()
@@ -230,16 +230,16 @@ def test_a_thick_planets_larger_multiple_table_renders_as_the_lut_command_reads_
     finally:
         scene.close()
 
-def test_a_planet_far_away_is_drawn_and_matches_the_lut(earth, tmp_path):
+def test_a_planet_far_away_is_drawn_and_matches_the_tables(earth, tmp_path):
     earth.view_from_space(distance=1e9, latitude=0, longitude=0, fov=1.2)   # the planet: 0.73 deg across
     earth.set_sun(elevation=60, azimuth=90)
     hdr = earth.render_hdr()
     rows, cols = np.meshgrid(np.arange(0, SIZE[1], 3), np.arange(0, SIZE[0], 3), indexing="ij")
-    lut = tables_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
+    want = tables_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
     got = hdr.radiance[rows, cols]
-    seen = lut.max(-1) > 0
+    seen = want.max(-1) > 0
     assert seen.sum() > 30 and np.array_equal(got.max(-1) > 0, seen)
-    assert np.max(np.abs(got - lut)[seen] / lut[seen]) < 0.01
+    assert np.max(np.abs(got - want)[seen] / want[seen]) < 0.01
 
 
 def test_no_band_on_the_ground_below_the_horizon(earth):
@@ -352,13 +352,13 @@ def test_a_spectral_atmosphere_renders_every_wavelength(tmp_path):
         rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
         keep = away_from_sun(scene, rows, cols).ravel()
         dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
-        lut, _ = sky_radiance(scene.planet.tables, atm, np.tile(scene.camera_location, (len(dirs), 1)), dirs,
+        want, _ = sky_radiance(scene.planet.tables, atm, np.tile(scene.camera_location, (len(dirs), 1)), dirs,
                               scene.sun_direction)
     finally:
         scene.close()
     got = hdr.radiance[rows, cols].reshape(-1, 7)
     assert hdr.radiance.shape[-1] == 7 and hdr.linear_srgb.shape[-1] == 3
-    assert np.max(np.abs(got - lut)[keep] / lut[keep]) < 0.01
+    assert np.max(np.abs(got - want)[keep] / want[keep]) < 0.01
 
 
 def test_the_terminator_seen_from_space_has_no_step(earth):

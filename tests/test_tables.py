@@ -231,11 +231,11 @@ def test_single_scattering_tables_match_deterministic_single_scattering(standard
     el = np.radians(rng.uniform(-6, 90, n))
     az = rng.uniform(0, 2 * np.pi, n)
     suns = np.stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)], 1)
-    lut, _ = sky_radiance(standard_single, EARTH, cams, views, suns)
+    got, _ = sky_radiance(standard_single, EARTH, cams, views, suns)
     s, g = single_scattering(EARTH, cams, views, suns)
     ref = s + g
     ok = ref > 1e-5
-    rel = np.abs(lut - ref)[ok] / ref[ok]
+    rel = np.abs(got - ref)[ok] / ref[ok]
     # Measured: median 0.05%, p95 0.6%; bounds with margin that a wrong mapping, a missing transmittance
     # factor or a phase applied twice (errors of 10% or more) cannot meet.
     assert np.median(rel) < 0.003
@@ -314,9 +314,9 @@ def test_standard_tables_against_the_reference(preset):
     views /= np.linalg.norm(views, axis=1, keepdims=True)
     sun = np.array([0.5, 0.0, 0.866])
     tables = precompute(atm, QUALITY["standard"])
-    lut, trans = sky_radiance(tables, atm, cams, views, sun)
+    got, trans = sky_radiance(tables, atm, cams, views, sun)
     ref = stored_reference(f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
-    rel = (lut - ref.radiance) / ref.radiance
+    rel = (got - ref.radiance) / ref.radiance
     assert np.sqrt(np.mean(rel ** 2)) < 0.05, rel
     # Transmittance against the reference's deterministic quadrature (relative error < 1e-5), compared as optical
     # depth: T = exp(-tau), so T's relative error is tau's absolute error, which grows with tau (the thick planet's
@@ -325,7 +325,7 @@ def test_standard_tables_against_the_reference(preset):
     assert np.allclose(-np.log(trans), -np.log(ref.transmittance), rtol=1e-3, atol=2e-3)
 
 
-def test_precompute_and_lut_commands(tmp_path):
+def test_precompute_and_tables_commands(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "planetviz", "precompute", "--atmosphere", "earth", "--quality", "draft"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
