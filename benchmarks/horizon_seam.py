@@ -21,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from planetviz.reference.single import single_scattering  # noqa: E402
 from planetviz.tables import QUALITY, precompute  # noqa: E402
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
-from test_stability import EARTH, R, _single_scattering_error, single_scattering_only  # noqa: E402
+from test_stability_horizon import EARTH, R, _single_scattering_error, single_scattering_only  # noqa: E402
 
 OFFSETS = np.logspace(-6, -1.5, 46)
 

@@ -1,10 +1,14 @@
 """Test configuration: off-screen rendering through OSMesa (set before VTK is imported), and a table cache
 of the test run's own, so that tests never read or fill the user's ~/.cache/planetviz; it is removed when
 the run ends."""
+import functools
 import os
 import shutil
 import tempfile
 from pathlib import Path
+
+import numpy as np
+import pytest
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 TABLE_CACHE = tempfile.mkdtemp(prefix="planetviz-test-cache-")
@@ -23,3 +27,37 @@ def stored_reference(tag, atm, cameras, views, sun, samples, seed):
     when the atmosphere, the rays, the paths, the seed or the solver's version change)."""
     from planetviz.reference.stored import stored_reference as stored
     return stored(REFERENCE_DATA, tag, atm, cameras, views, sun, samples=samples, seed=seed)
+
+
+@functools.lru_cache(maxsize=None)
+def draft_earth_tables():
+    """The Earth preset's draft tables, computed once per test run for every module that reads them."""
+    from planetviz import load_atmosphere
+    from planetviz.tables import QUALITY, precompute
+    return precompute(load_atmosphere("earth"), QUALITY["draft"])
+
+
+def check_finite_and_bounded(radiance, transmittance):
+    """Radiance finite and >= 0, transmittance finite and in [0, 1]."""
+    assert np.all(np.isfinite(radiance)) and np.all(radiance >= 0), radiance
+    assert np.all(np.isfinite(transmittance)) and np.all((transmittance >= 0) & (transmittance <= 1)), transmittance
+
+
+def transmittance_along(tables, alt, mu, n=50):
+    """T(x, x + d v) from ``tables`` at n distances d from 0 to where the ray (altitude ``alt``, view cosine
+    ``mu``) leaves the atmosphere or meets the ground: (n, W)."""
+    from planetviz.tables.lookup import get_transmittance
+    bottom, top = tables.bottom, tables.top
+    r = bottom + alt
+    ground = mu < 0 and r * r * (mu * mu - 1) + bottom * bottom >= 0
+    disc = r * r * (mu * mu - 1) + (bottom if ground else top) ** 2
+    end = -r * mu - np.sqrt(max(disc, 0)) if ground else -r * mu + np.sqrt(max(disc, 0))
+    return get_transmittance(tables, np.full(n, r), np.full(n, mu), np.linspace(0.0, max(end, 0.0), n))
+
+
+@pytest.fixture(scope="session")
+def standard_single():
+    """The Earth preset's standard tables without multiple scattering, computed once per test run."""
+    from planetviz import load_atmosphere
+    from planetviz.tables import QUALITY, precompute
+    return precompute(load_atmosphere("earth"), QUALITY["standard"], multiple=False)
