@@ -15,6 +15,7 @@ from planetviz.reference.montecarlo import QUALITY_SAMPLES
 from planetviz.reference.stored import stored_reference
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.precompute import QUALITY, precompute
+from planetviz.validation import daylight_check_rays
 
 DATA = Path(__file__).resolve().parent / "data"
 
@@ -23,11 +24,7 @@ def main():
     for preset in ("earth", "mars", "exo-co2-thick"):
         atm = load_atmosphere(preset)
         r = atm.bottom_radius_m
-        cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
-        views = np.array([[0, 0, 1], [0.7, 0, 0.7], [-0.7, 0, 0.7], [0, 1, 0.1], [0.3, 0.3, 0.9], [0, -1, 0.3],
-                          [1, 0, 0], [0, 1, -0.3], [0.2, 0, -1], [0, 0, -1], [0.3, 0, -1], [0, 0.17, -1]], float)
-        views /= np.linalg.norm(views, axis=1, keepdims=True)
-        sun = np.array([0.5, 0.0, 0.866])
+        cams, views, sun = daylight_check_rays(atm)
         ref = stored_reference(DATA, f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
         tables, _ = sky_radiance(precompute(atm, QUALITY["standard"]), atm, cams, views, sun)
         rel = (tables - ref.radiance) / ref.radiance

@@ -116,6 +116,18 @@ def sun_elevation_seen(atm, camera, view, sun) -> float:
     return float(np.degrees(np.arcsin(np.clip(p @ sun / np.linalg.norm(p), -1.0, 1.0))))
 
 
+def daylight_check_rays(atm):
+    """(cameras (12, 3) [m], views (12, 3), sun (3,)): the fixed daylight rays the tables are checked on against
+    the stored reference (tests/test_tables.py, benchmarks/tables_vs_reference.py): six from the ground, three
+    from 10 km, three from 1000 km, the sun 60 deg up."""
+    r = atm.bottom_radius_m
+    cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
+    views = np.array([[0, 0, 1], [0.7, 0, 0.7], [-0.7, 0, 0.7], [0, 1, 0.1], [0.3, 0.3, 0.9], [0, -1, 0.3],
+                      [1, 0, 0], [0, 1, -0.3], [0.2, 0, -1], [0, 0, -1], [0.3, 0, -1], [0, 0.17, -1]], float)
+    views /= np.linalg.norm(views, axis=1, keepdims=True)
+    return cams, views, np.array([0.5, 0.0, 0.866])
+
+
 def rays(atm, seed: int, camera_class: str, light: str, n: int = 1):
     """``n`` rays (camera (n, 3) [m], view (n, 3), sun (n, 3)) of a camera class and a light class."""
     rng = np.random.default_rng([20261126, seed, CAMERAS.index(camera_class), list(LIGHT).index(light)])

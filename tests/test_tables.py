@@ -22,6 +22,7 @@ from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, mu_s_fr
 from planetviz.tables.nodes import scattering_grid
 from planetviz.tables.precompute import QUALITY, precompute
 from planetviz.tables.sampling import texel_axis, texture2d
+from planetviz.validation import daylight_check_rays
 
 
 def texture3d(table, u, v, w):
@@ -299,15 +300,10 @@ def test_standard_tables_against_the_reference(preset):
     # daylight, at its high quality (stored under benchmarks/data/; RMS relative standard error 0.21% Earth,
     # 0.44% Mars, 0.93% the thick planet). What this checks is that every order is there: the same tables
     # without multiple scattering (precompute(..., multiple=False)) miss 34% RMS here (Earth), 51% (Mars), 76%
-    # (the thick planet). Bound: 5% RMS, a seventh of the smallest of those misses and 5x the reference's noise. The tables' accuracy itself is measured, not bounded, by
-    # benchmarks/tables_vs_reference.py and benchmarks/tables_pareto.py (docs/benchmarks.md).
+    # (the thick planet). Bound: 5% RMS, a seventh of the smallest of those misses and 5x the reference's noise.
+    # The tables' accuracy itself is measured, not bounded, by benchmarks/tables_vs_reference.py and benchmarks/tables_pareto.py (docs/benchmarks.md).
     atm = load_atmosphere(preset)
-    r = atm.bottom_radius_m
-    cams = np.array([[0, 0, r + 2.0]] * 6 + [[0, 0, r + 1e4]] * 3 + [[0, 0, r + 1e6]] * 3, float)
-    views = np.array([[0, 0, 1], [0.7, 0, 0.7], [-0.7, 0, 0.7], [0, 1, 0.1], [0.3, 0.3, 0.9], [0, -1, 0.3],
-                      [1, 0, 0], [0, 1, -0.3], [0.2, 0, -1], [0, 0, -1], [0.3, 0, -1], [0, 0.17, -1]], float)
-    views /= np.linalg.norm(views, axis=1, keepdims=True)
-    sun = np.array([0.5, 0.0, 0.866])
+    cams, views, sun = daylight_check_rays(atm)
     tables = precompute(atm, QUALITY["standard"])
     got, trans = sky_radiance(tables, atm, cams, views, sun)
     ref = stored_reference(f"tables-{preset}", atm, cams, views, sun, samples=QUALITY_SAMPLES["high"], seed=21)
