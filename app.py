@@ -1,4 +1,4 @@
-"""planetviz desktop app: ``python app.py`` opens a window showing Earth from orbit (planetviz/gui.py).
+"""planetviz desktop app: ``python app.py`` opens a window showing Earth from orbit (planetviz/app/window.py).
 
 With an output option it renders off-screen instead (no display needed), with the options of
 ``planetviz render``:
@@ -9,7 +9,7 @@ With an output option it renders off-screen instead (no display needed), with th
 import argparse
 import sys
 
-from planetviz.render_cli import add_render_options, run_render, wants_output
+from planetviz.app.render_options import add_render_options, run_render, wants_output
 
 
 def main(argv=None):
@@ -20,7 +20,7 @@ def main(argv=None):
     try:
         if wants_output(args):
             return run_render(args)
-        from planetviz.gui import run
+        from planetviz.app.window import run
         from planetviz.render import Scene
         scene = Scene(args.atmosphere, quality=args.quality, window_size=args.size, method=args.method,
                       shading=args.shading or "auto", exposure=args.exposure, tone_mapping=args.tone_mapping)

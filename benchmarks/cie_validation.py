@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from planetviz import load_atmosphere
-from planetviz.cie_sky import cie_relative_luminance
-from planetviz.color import radiance_to_xyz
+from planetviz.validation.cie_sky import cie_relative_luminance
+from planetviz.model.color import radiance_to_xyz
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 

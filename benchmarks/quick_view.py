@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from tables_pareto import errors, query_set, reference  # noqa: E402
 
 from planetviz import load_atmosphere  # noqa: E402
-from planetviz.quick_view import quick_view_radiance  # noqa: E402
+from planetviz.quick_view.single_scattering import quick_view_radiance  # noqa: E402
 from planetviz.reference import QUALITY_SAMPLES, single_scattering  # noqa: E402
 
 SAMPLES = (3, 4, 6, 8, 12, 16, 24, 32)

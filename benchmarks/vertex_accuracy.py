@@ -14,7 +14,7 @@ import numpy as np
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
-from planetviz.geometry import distance_to_ground  # noqa: E402
+from planetviz.model.geometry import distance_to_ground  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 
 #: name: (camera call, its keywords, sun keywords)
@@ -39,7 +39,7 @@ def frames(size, quality):
             for shading, scene in scenes.items():
                 scene.settings.show_sun = False
                 getattr(scene, call)(**camera)
-                scene.set_sun(**sun)
+                scene.set_sun(**sun, latitude=camera["latitude"], longitude=camera.get("longitude", 0.0))
                 images[shading] = scene.render_hdr().linear_srgb[..., 1]
             scene = scenes["pixel"]
             rows, cols = np.indices(images["pixel"].shape)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 os.environ.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
 
-from planetviz.gui import STANDARD, PlanetApp  # noqa: E402
+from planetviz.app.window import STANDARD, PlanetApp  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "img" / "gallery"

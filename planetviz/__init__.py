@@ -7,8 +7,9 @@ Example
 >>> round(float(atm.vertical_optical_depth()[1]), 3)   # Rayleigh + Mie + ozone at 550 nm
 0.129
 """
-from .atmosphere import Atmosphere, AtmosphereError
-from .presets import PRESETS, load_atmosphere
+from .model.atmosphere import Atmosphere
+from .model.limits import AtmosphereError
+from .model.presets import PRESETS, load_atmosphere
 
 __all__ = ["Atmosphere", "AtmosphereError", "PRESETS", "Scene", "load_atmosphere"]
 

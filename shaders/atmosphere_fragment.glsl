@@ -3,7 +3,7 @@
 // enclosing the atmosphere (front faces culled, so it covers exactly the pixels whose rays may meet the
 // atmosphere, from space and from inside). The view ray comes from gl_FragCoord and the camera uniforms,
 // computed in double precision on the CPU, never from the shell's vertices; intersections use the stable forms
-// (planetviz/geometry.py).
+// (planetviz/model/geometry.py).
 //
 // Uniforms: those of the files before it (output_mode and output_triple in atmosphere_ray.glsl).
 

@@ -18,7 +18,7 @@
 //   surface_albedo         vec4[MAX_GROUPS]  the atmosphere file's ground albedo per wavelength
 //   rgb_weights            vec4[3 MAX_GROUPS]  linear sRGB of group g = dot(rgb_weights[3g + c], L_g): the star's
 //                                 spectral irradiance, the CIE 1931 functions, 683 lm/W and colour-science's
-//                                 XYZ -> sRGB matrix folded in (planetviz/color.py; luminance in cd/m^2)
+//                                 XYZ -> sRGB matrix folded in (planetviz/model/color.py; luminance in cd/m^2)
 //   output_mode            int    0: display colour (exposure, tone mapping, sRGB encoding); 1: the radiance at
 //                                 wavelengths 3 k .. 3 k + 2 (k = output_triple) per unit solar irradiance [1/sr]
 //                                 in R, G, B (alpha stays 1: VTK blends by alpha); 2: linear sRGB (CIE Y in

@@ -1,5 +1,5 @@
 // Shared by every planetviz shader: constants, the planet's radii, stable ray-sphere distances and the phase
-// functions, each with the name of its NumPy twin (planetviz/tables/parameterization.py, planetviz/optics/phase.py,
+// functions, each with the name of its NumPy twin (planetviz/tables/parameterization.py, planetviz/model/optics/phase.py,
 // planetviz/tables/multiple.py forward_factor).
 //
 // Uniforms:
@@ -54,11 +54,8 @@ bool ray_intersects_ground(float a, float mu) {
 }
 
 // --------------------------------------------------------------------------------------------------- phases
-float rayleigh_phase(float nu) { return 3.0 / (16.0 * PI) * (1.0 + nu * nu); }
-
-float penndorf_phase(float nu) { return (1.0 + 0.932 * nu * nu) / (4.0 * PI * (1.0 + 0.932 / 3.0)); }
-
-// The molecules' phase with the atmosphere's anisotropy (rayleigh_phase for A = 1, penndorf_phase for 0.932).
+// The molecules' phase with the atmosphere's anisotropy A: the NumPy twins rayleigh_phase (A = 1) and
+// penndorf_phase (A = PENNDORF_A = 0.932) of planetviz/model/optics/phase.py.
 float rayleigh_like_phase(float nu) {
     float a = rayleigh_anisotropy;
     return (1.0 + a * nu * nu) / (4.0 * PI * (1.0 + a / 3.0));

@@ -1,5 +1,5 @@
 // Quick view: Keller and Bohn's single scattering computed per vertex, with no tables (after common.glsl).
-// The GLSL twin of planetviz/quick_view.py (same sampling, same names): for the direction from the camera to the
+// The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction from the camera to the
 // vertex, L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i plus the sunlit ground, with the
 // midpoint rule on (i / n)^view_exponent and each optical depth on (j / m)^density_exponent.
 //
@@ -20,7 +20,7 @@
 //                                 altitudes from 0 to the top, read linearly
 //   component_table        float[MAX_COMPONENTS * PROFILE_TABLE_SIZE]
 //   artistic_terms         int    1: Table 1's phases 1 + 0.5 nu^2 and HG without 1 / (4 pi) (coefficients are
-//                                 uploaded already scaled, planetviz/quick_view.py _coefficients)
+//                                 uploaded already scaled, planetviz/quick_view/single_scattering.py _coefficients)
 //   surface_albedo         vec4[MAX_GROUPS]  ground albedo per wavelength
 //   rgb_weights            vec4[3 MAX_GROUPS]  linear sRGB of group g = dot(rgb_weights[3g + c], L_g) (as in
 //                                 atmosphere_fragment.glsl)

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planetviz.atmosphere import LIMITS
+from planetviz.model.limits import LIMITS
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -102,7 +102,7 @@ def test_advanced_mode_sliders_act_on_the_physical_quantities():
     # quantities; doubling the molecular refractivity n - 1 must multiply the Rayleigh scattering coefficient
     # by about 4 (Eq. 11: beta ~ (n^2 - 1)^2 ~ 4 (n - 1)^2; exactly ((n'^2 - 1) / (n^2 - 1))^2, checked here).
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    from planetviz.gui import PlanetApp
+    from planetviz.app.window import PlanetApp
     from planetviz.render import Scene
     scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=(240, 160))
     try:
@@ -130,8 +130,8 @@ def test_standard_mode_turbidity_slider_follows_eq_17():
     # Eq. 17 written out here: beta_M = 0.434 C(T) pi (2 pi / lambda)^(v - 2) K, C(T) = (0.65 T - 0.65) 1e-16,
     # with the slider's v = 4 and K = 0.0092; extinction keeps the file's extinction/scattering ratio.
     import copy
-    from planetviz.gui import set_turbidity, turbidity_of
-    from planetviz.presets import load_atmosphere
+    from planetviz.app.window import set_turbidity, turbidity_of
+    from planetviz.model.presets import load_atmosphere
     d = load_atmosphere("earth").to_dict()
     base = copy.deepcopy(d)
     set_turbidity(d, base, 4.0)
@@ -165,10 +165,10 @@ def app_sequences(n_examples):
     @given(steps=st.lists(action, min_size=1, max_size=6))
     def check(app, steps):
         from planetviz import Atmosphere
-        from planetviz.gui import STANDARD
+        from planetviz.app.window import STANDARD
         scene = app.scene
         for kind, a, b in steps:
-            before = (scene.atmosphere, app._sun, scene.settings.exposure)
+            before = (scene.atmosphere, scene.sun, scene.settings.exposure)
             if kind == "slider":
                 rows = STANDARD if app.mode == "standard" else app._advanced_rows()
                 label, _, _, put = rows[a % len(rows)]
@@ -181,7 +181,7 @@ def app_sequences(n_examples):
                 ok = getattr(app, a)() if a.startswith(("toggle", "cycle")) else app.camera_preset(a)
             assert Atmosphere.from_dict(scene.atmosphere.to_dict()) == scene.atmosphere
             if ok is False:
-                assert app.message and (scene.atmosphere, app._sun, scene.settings.exposure) == before
+                assert app.message and (scene.atmosphere, scene.sun, scene.settings.exposure) == before
         scene.wait_for_tables(120)
         hdr = scene.render_hdr()
         assert np.all(np.isfinite(hdr.radiance)) and np.all(hdr.radiance >= 0), hdr.radiance.min()
@@ -192,7 +192,7 @@ def app_sequences(n_examples):
 def app():
     """One off-screen window for all generated sequences: a user's session is one long sequence anyway."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    from planetviz.gui import PlanetApp
+    from planetviz.app.window import PlanetApp
     from planetviz.render import Scene
     scene = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=(48, 32))
     yield PlanetApp(scene)

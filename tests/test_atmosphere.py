@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planetviz import Atmosphere, AtmosphereError, PRESETS, load_atmosphere
-from planetviz.presets import load_dict
+from planetviz.model.presets import load_dict
 
 EARTH_JSON = json.loads(PRESETS["earth"].read_text())
 
@@ -54,7 +54,7 @@ BAD = [  # (path, value, expected field in the message, words the message must c
     (("ground_albedo", 2), 1.01, "ground_albedo[2]", "allowed range [0, 1]"),
     (("mie", "scattering_m"), [1e-6, 1e-6], "mie.scattering_m", "expected 3"),
     (("ground_albedo",), [0.3] * 4, "ground_albedo", "expected 3"),
-    (("mie", "extinction_m", 0), 1e-7, "mie.extinction_m[0]", "below mie.scattering_m[0]"),
+    (("mie", "extinction_m", 0), 1e-7, "mie.extinction_m[0]", "below scattering_m[0]"),
     (("rayleigh", "scattering_m", 0), "0.1", "rayleigh.scattering_m[0]", "must be a number"),
     (("rayleigh", "phase"), "mie", "rayleigh.phase", "'rayleigh', 'penndorf'"),
     (("rayleigh", "profile", "type"), "linear", "rayleigh.profile.type", "exponential"),

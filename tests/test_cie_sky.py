@@ -1,7 +1,7 @@
 """The CIE standard general sky against its published check value and its defining properties."""
 import numpy as np
 
-from planetviz.cie_sky import cie_relative_luminance, gradation
+from planetviz.validation.cie_sky import cie_relative_luminance, gradation
 
 
 def test_published_check_value():

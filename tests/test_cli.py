@@ -105,5 +105,5 @@ def test_sky_command_main_job():
     proc = run("sky", "--quality", "draft")
     assert proc.returncode == 0, proc.stderr
     lines = [line for line in proc.stdout.splitlines() if "zenith" in line]
-    values = [float(x) for x in lines[0].split()[1:10:3]]
+    values = [float(x) for x in lines[0].split()[3:12:3]]     # after the name and "elevation, azimuth"
     assert values[2] > values[0]   # the noon-ish zenith is bluer (440 nm) than red (680 nm)

@@ -3,9 +3,9 @@ import numpy as np
 import pytest
 
 from planetviz import load_atmosphere
-from planetviz.atmosphere import Star
-from planetviz.color import radiance_to_xyz, xyz_matrix
-from planetviz.optics.light import SOLAR_CONSTANT, solar_spectrum, star_irradiance
+from planetviz.model.atmosphere import Star
+from planetviz.model.color import radiance_to_xyz, xyz_matrix
+from planetviz.model.optics.light import SOLAR_CONSTANT, solar_spectrum, star_irradiance
 
 
 def test_blackbody_star_delivers_the_solar_constant():

@@ -160,7 +160,7 @@ def test_second_order_under_a_sharp_forward_lobe_matches_a_direct_integration():
     # one such lobe at 550 nm); with Bruneton's nu coordinate (nu + 1) / 2, whose slices outside the range
     # (mu, mu_s) allow hold other geometries, 16.5%, 14.9%, 14.1% below; with the scattering density read on
     # S's grid instead of its own, 8.3%, 7.3%, 7.0% below. Bound 6%: each of those designs fails it.
-    from planetviz.optics.phase import rayleigh_phase
+    from planetviz.model.optics.phase import rayleigh_phase
     from planetviz.reference import optical_depth
     from planetviz.tables.evaluator import _phased
     from planetviz.tables.multiple import multiple_scattering

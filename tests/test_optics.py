@@ -7,15 +7,15 @@ import numpy as np
 import pytest
 
 from planetviz import load_atmosphere
-from planetviz.atmosphere import AtmosphereError
-from planetviz.optics.absorption import (oxygen_cia, oxygen_cia_table, ozone_column_du, ozone_cross_section,
+from planetviz.model.limits import AtmosphereError
+from planetviz.model.optics.absorption import (oxygen_cia, oxygen_cia_table, ozone_column_du, ozone_cross_section,
                                         small_particle_absorption)
-from planetviz.physical import derive_dict
-from planetviz.optics.airmass import pickering_air_mass
-from planetviz.optics.composition import GASES, mean_molar_mass, mixture_cross_section
-from planetviz.optics.mie import (absorption_efficiency, extinction_efficiency,
+from planetviz.model.advanced import derive_dict
+from planetviz.model.optics.airmass import pickering_air_mass
+from planetviz.model.optics.composition import GASES, mean_molar_mass, mixture_cross_section
+from planetviz.model.optics.mie import (absorption_efficiency, extinction_efficiency,
                                   mie_scattering_turbidity)
-from planetviz.optics.rayleigh import GAS_CONSTANT, king_factor, rayleigh_scattering, scale_height
+from planetviz.model.optics.rayleigh import GAS_CONSTANT, king_factor, rayleigh_scattering, scale_height
 
 PRESETS_DIR = Path(__file__).resolve().parents[1] / "assets" / "atmospheres"
 LAMBDA = np.array([680e-9, 550e-9, 440e-9])
@@ -224,7 +224,7 @@ def test_preset_optical_depths_are_the_documented_ones(preset):
 def test_turbidity_from_scattering_inverts_eq17():
     # Eq. 16-17: beta_M is proportional to C(T) = 0.65 (T - 1) 1e-16, so inverting at one wavelength must give T
     # back to rounding, for any wavelength set and Junge exponent.
-    from planetviz.optics.mie import mie_scattering_turbidity, turbidity_from_scattering
+    from planetviz.model.optics.mie import mie_scattering_turbidity, turbidity_from_scattering
     lam = np.array([680e-9, 550e-9, 440e-9])
     for t in (1.0, 2.0, 3.7, 10.0):
         for v, k in ((4.0, 0.0092), (3.5, 0.02)):

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from planetviz import PRESETS, load_atmosphere
-from planetviz.optics.phase import (PENNDORF_A, double_henyey_greenstein, henyey_greenstein,
+from planetviz.model.optics.phase import (PENNDORF_A, double_henyey_greenstein, henyey_greenstein,
                                     penndorf_phase, rayleigh_phase, sample_henyey_greenstein,
                                     sample_rayleigh_like)
 

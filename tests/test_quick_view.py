@@ -8,7 +8,7 @@ import pytest
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
 from planetviz import load_atmosphere  # noqa: E402
-from planetviz.quick_view import quick_view_radiance  # noqa: E402
+from planetviz.quick_view.single_scattering import quick_view_radiance  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 from planetviz.render.direction_mesh import direction_mesh  # noqa: E402
 
@@ -32,16 +32,16 @@ def test_vertex_shader_matches_its_numpy_twin(quick, view):
     terms = "artistic" if view == "artistic" else "physical"
     if view in ("ground", "artistic"):
         quick.view_from_ground(latitude=20, altitude=2.0, heading=80, pitch=5, fov=70)
-        quick.set_sun(elevation=15, azimuth=100)
+        quick.set_sun(elevation=15, azimuth=100, latitude=20, longitude=0)
     elif view == "standing":
         quick.view_from_ground(latitude=20, altitude=1.7, heading=90, pitch=-2, fov=20)
-        quick.set_sun(elevation=1, azimuth=90)
+        quick.set_sun(elevation=1, azimuth=90, latitude=20, longitude=0)
     elif view == "aircraft":
         quick.view_from_ground(latitude=20, altitude=1e4, heading=200, pitch=-10, fov=70)
-        quick.set_sun(elevation=5, azimuth=180)
+        quick.set_sun(elevation=5, azimuth=180, latitude=20, longitude=0)
     else:
         quick.view_from_space(distance=2e7, latitude=10, longitude=20, fov=40)
-        quick.set_sun(elevation=40, azimuth=120)
+        quick.set_sun(elevation=40, azimuth=120, latitude=10, longitude=20)
     rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
     dirs = quick.pixel_directions(rows, cols).reshape(-1, 3)
     quick.quick_terms = terms
@@ -85,7 +85,7 @@ def test_a_change_that_needs_tables_shows_the_quick_view_until_they_are_ready():
         scene.view_from_ground(latitude=0, heading=90, pitch=10)
         assert scene.renderer_in_use == "tables"
         # The sun, the camera or the exposure need no tables: no switch, no background job.
-        scene.set_sun(elevation=20, azimuth=100)
+        scene.set_sun(elevation=20, azimuth=100, latitude=0, longitude=0)
         scene.settings.exposure = 2e-4
         assert scene.renderer_in_use == "tables" and scene.precompute_progress is None
         before = scene.render_hdr().radiance

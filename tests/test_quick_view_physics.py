@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from planetviz import load_atmosphere
-from planetviz.quick_view import quick_view_radiance, sample_fractions
+from planetviz.quick_view.single_scattering import quick_view_radiance, sample_fractions
 from planetviz.reference import single_scattering
 
 EARTH = load_atmosphere("earth")
@@ -67,7 +67,7 @@ def test_transmittance_and_space():
 def test_artistic_terms_follow_table_1():
     # Table 1 of Keller and Bohn: molecular scattering scaled by (lambda_red / lambda)^4 from the longest
     # wavelength, so the artistic and physical coefficients agree at the red end only.
-    from planetviz.quick_view import coefficients
+    from planetviz.quick_view.single_scattering import coefficients
     b_r, b_m, _ = coefficients(EARTH, "artistic")
     wl = np.asarray(EARTH.wavelengths_nm)
     assert np.isclose(b_r[0], EARTH.rayleigh.scattering_m[0])

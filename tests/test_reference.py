@@ -52,7 +52,7 @@ def test_segment_tables_agree_with_optical_depth():
     p = np.array([[0, 0, R + 1.0], [0, 0, R + 2000.0], [0, R + 30000.0, 0], [0, 0, R + 100.0]])
     d = np.array([[1.0, 0, 0], [0.6, 0, 0.8], [0.0, -0.05, 0.9987], [0.0, 0.0, 1.0]])
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    from planetviz.geometry import distance_to_top_exit
+    from planetviz.model.geometry import distance_to_top_exit
     length = np.minimum(rng.uniform(1e4, 5e5, len(p)), distance_to_top_exit(p, d, EARTH.top_radius_m))
     for w in range(EARTH.n_wavelengths):
         _, tau = segment_optical_depth(EARTH, w, p, d, length)
@@ -170,7 +170,7 @@ def test_energy_is_conserved_without_absorption():
 def test_shadow_interval_matches_a_brute_force_search():
     # The shadow's ends on 100 random lines against points 10 m apart tested one by one with the ray toward
     # the sun (blocked where it meets the ground): every tested point agrees, except within one step of an end.
-    from planetviz.geometry import distance_to_ground
+    from planetviz.model.geometry import distance_to_ground
     from planetviz.reference.shadow import shadow_interval
     rng = np.random.default_rng(8)
     n = 100
@@ -217,7 +217,7 @@ def test_free_flight_optical_depth_against_ratio_tracking():
     # and stopped at 18.5% of its length (the sampled point's exact tau).
     # Bound: 4.5 standard errors of the ratio-tracking estimate (a false alarm ~1e-5 per comparison).
     from planetviz.reference.montecarlo import _point, segment_optical_depth
-    from planetviz.geometry import distance_to_top_exit
+    from planetviz.model.geometry import distance_to_top_exit
     atm = load_atmosphere("exo-co2-thick")
     rg, rt = atm.bottom_radius_m, atm.top_radius_m
     w = 2

@@ -69,27 +69,27 @@ def test_shader_radiance_matches_the_tables_command(earth, view, tmp_path):
     # texel). Bound: 1%, well above both; measured on llvmpipe: at most 2.4e-4 (space).
     if view == "space":
         earth.view_from_space(distance=1.6e7, latitude=10, longitude=20, fov=40)
-        earth.set_sun(elevation=40, azimuth=120)
+        earth.set_sun(elevation=40, azimuth=120, latitude=10, longitude=20)
     elif view == "ground":
         earth.view_from_ground(latitude=30, altitude=2.0, heading=80, pitch=5, fov=70)
-        earth.set_sun(elevation=20, azimuth=100)
+        earth.set_sun(elevation=20, azimuth=100, latitude=30, longitude=0)
     elif view == "aircraft":
         earth.view_from_ground(latitude=30, altitude=1e4, heading=200, pitch=-10, fov=70)
-        earth.set_sun(elevation=8, azimuth=150)
+        earth.set_sun(elevation=8, azimuth=150, latitude=30, longitude=0)
     elif view == "horizon":
         # From 30 km, 8 deg about the horizon's direction (5.56 deg down), a sun 3 deg down behind the camera:
         # every pixel within tables/horizon.py's band, whose quadrature replaces the tables' reading there (and
         # its GLSL twin, horizon_single_scattering). Measured on llvmpipe: 1.5e-5; with the GLSL twin's blend left
         # out (the tables read as they are) 20%.
         earth.view_from_ground(latitude=30, altitude=3e4, heading=270, pitch=-5.5, fov=8)
-        earth.set_sun(elevation=-3.0, azimuth=90)
+        earth.set_sun(elevation=-3.0, azimuth=90, latitude=30, longitude=0)
     else:
         # From 3 km, below the draft tables' row 5, away from a sun 1.5 deg down: the ground rays run into the
         # planet's shadow, and both integrate only their lit part (near_ground.shadow_interval and its GLSL twin).
         # Measured on llvmpipe: 1.0e-5 (space 2.4e-4, ground 2.4e-5, aircraft 8.0e-6); with the GLSL twin's shadow
         # left out (the rays' halves integrated whole) 3.2%.
         earth.view_from_ground(latitude=30, altitude=3e3, heading=270, pitch=-3, fov=70)
-        earth.set_sun(elevation=-1.5, azimuth=90)
+        earth.set_sun(elevation=-1.5, azimuth=90, latitude=30, longitude=0)
     assert shader_matches_lut(earth, "earth", tmp_path) < 0.01
 
 
@@ -99,7 +99,7 @@ def luminance_image(scene):
 
 def test_earth_noon_zenith_is_bluer_than_the_horizon(earth):
     earth.view_from_ground(latitude=0, heading=0, pitch=45, fov=95)
-    earth.set_sun(elevation=70, azimuth=180)
+    earth.set_sun(elevation=70, azimuth=180, latitude=0, longitude=0)
     rgb = luminance_image(earth)
     h, w = rgb.shape[:2]
     zenith = rgb[1, w // 2]
@@ -112,7 +112,7 @@ def test_earth_noon_zenith_is_bluer_than_the_horizon(earth):
 
 
 def sun_colour(scene, elevation):
-    scene.set_sun(elevation=elevation, azimuth=90)
+    scene.set_sun(elevation=elevation, azimuth=90, latitude=0, longitude=0)
     sun = scene.sun_direction
     scene.set_view(scene.camera_location, sun, fov=2.0)        # the disc fills the middle pixels
     rgb = luminance_image(scene)
@@ -130,9 +130,9 @@ def test_the_sun_is_redder_at_sunset_than_at_noon(earth):
 
 def test_space_is_black_away_from_the_planet_and_the_night_side_is_dark(earth):
     earth.view_from_space(distance=4e7, latitude=0, longitude=0, fov=40)
-    earth.set_sun(elevation=-90, azimuth=0)                          # the sun behind the planet
+    earth.set_sun(elevation=-90, azimuth=0, latitude=0, longitude=0)  # the sun behind the planet
     night = earth.render_hdr().radiance
-    earth.set_sun(elevation=90, azimuth=0)
+    earth.set_sun(elevation=90, azimuth=0, latitude=0, longitude=0)
     day = earth.render_hdr().radiance
     h, w = day.shape[:2]
     d = earth.pixel_directions(*np.meshgrid(np.arange(h), np.arange(w), indexing="ij"))
@@ -149,12 +149,12 @@ def test_space_is_black_away_from_the_planet_and_the_night_side_is_dark(earth):
 
 def test_mars_sky_is_red_brown_at_noon_and_blue_around_the_setting_sun(mars):
     mars.view_from_ground(latitude=0, heading=0, pitch=30, fov=60)
-    mars.set_sun(elevation=70, azimuth=180)
+    mars.set_sun(elevation=70, azimuth=180, latitude=0, longitude=0)
     noon = luminance_image(mars)
     h, w = noon.shape[:2]
     sky = noon[h // 4, w // 2]
     assert sky[0] > sky[1] > sky[2], sky                            # red-brown: R > G > B
-    mars.set_sun(elevation=3, azimuth=90)
+    mars.set_sun(elevation=3, azimuth=90, latitude=0, longitude=0)
     mars.view_from_ground(latitude=0, heading=90, pitch=8, fov=60)
     dusk = luminance_image(mars)
     d = mars.pixel_directions(*np.meshgrid(np.arange(h), np.arange(w), indexing="ij"))
@@ -169,9 +169,9 @@ def test_mars_sky_is_red_brown_at_noon_and_blue_around_the_setting_sun(mars):
 
 def test_hdr_output_is_linear_float_and_written_to_openexr(earth, tmp_path):
     import OpenEXR
-    from planetviz.color import linear_srgb_matrix
+    from planetviz.model.color import linear_srgb_matrix
     earth.view_from_ground(latitude=0, heading=90, pitch=0, fov=10)
-    earth.set_sun(elevation=2, azimuth=90)                         # the sun disc in view: radiance >> 1
+    earth.set_sun(elevation=2, azimuth=90, latitude=0, longitude=0)  # the sun disc in view: radiance >> 1
     hdr = earth.render_hdr(tmp_path / "view.exr")
     assert hdr.radiance.dtype == np.float32 and hdr.radiance.max() > 1e3
     assert np.allclose(hdr.linear_srgb, hdr.radiance @ linear_srgb_matrix(earth.atmosphere), rtol=1e-4, atol=1e-3)
@@ -195,7 +195,7 @@ def test_tables_are_uploaded_as_32_bit_float_textures(earth):
 
 def test_no_jitter_two_metres_above_the_ground_and_no_jump_at_the_top(earth):
     top = earth.atmosphere.top_radius_m
-    earth.set_sun(elevation=25, azimuth=90)
+    earth.set_sun(elevation=25, azimuth=90, latitude=0, longitude=0)
     # 2 m above the ground, looking along the horizon: moving 1 cm must not change the picture (float32
     # positions at 6.4e6 m are 0.5 m apart: a renderer working in absolute coordinates jitters here).
     earth.view_from_ground(latitude=0, altitude=2.0, heading=60, pitch=0, fov=20)
@@ -225,14 +225,14 @@ def test_a_thick_planets_larger_multiple_table_renders_as_the_tables_command_rea
     try:
         scene.wait_for_tables()
         scene.view_from_ground(latitude=30, altitude=1e4, heading=200, pitch=-10, fov=70)
-        scene.set_sun(elevation=30, azimuth=150)
+        scene.set_sun(elevation=30, azimuth=150, latitude=30, longitude=0)
         assert shader_matches_lut(scene, "exo-co2-thick", tmp_path) < 0.01
     finally:
         scene.close()
 
 def test_a_planet_far_away_is_drawn_and_matches_the_tables(earth, tmp_path):
     earth.view_from_space(distance=1e9, latitude=0, longitude=0, fov=1.2)   # the planet: 0.73 deg across
-    earth.set_sun(elevation=60, azimuth=90)
+    earth.set_sun(elevation=60, azimuth=90, latitude=0, longitude=0)
     hdr = earth.render_hdr()
     rows, cols = np.meshgrid(np.arange(0, SIZE[1], 3), np.arange(0, SIZE[0], 3), indexing="ij")
     want = tables_radiance(earth, "earth", rows, cols, tmp_path).reshape(rows.shape + (3,))
@@ -248,7 +248,7 @@ def test_no_band_on_the_ground_below_the_horizon(earth):
     # the horizon (0.06 deg per row), must grow toward the horizon with no step larger than the smooth trend's
     # (measured: at most 1.7% per row); a band is a reversal or a jump. Far from the horizon the ground is
     # flat to 1e-4 (table interpolation kinks), hence the 0.999.
-    earth.set_sun(elevation=15, azimuth=0)
+    earth.set_sun(elevation=15, azimuth=0, latitude=0, longitude=0)
     earth.view_from_ground(latitude=0, altitude=2.0, heading=180, pitch=-1.5, fov=3.0)
     lum = earth.render_hdr().linear_srgb[..., 1]
     h, w = lum.shape
@@ -268,7 +268,7 @@ def test_twilight_fades_smoothly_to_night(earth):
     earth.view_from_ground(latitude=0, altitude=2.0, heading=90, pitch=5, fov=20)
     lum = []
     for el in np.arange(-1.0, -20.5, -0.5):
-        earth.set_sun(elevation=el, azimuth=90)
+        earth.set_sun(elevation=el, azimuth=90, latitude=0, longitude=0)
         lum.append(earth.render_hdr().linear_srgb[..., 1].mean())
     lum = np.array(lum)
     assert np.all(lum > 0)
@@ -280,7 +280,7 @@ def test_the_daylight_sky_has_no_holes(earth):
     # The background must never show through a daylight sky: every sky pixel is lit (measured minimum 60% of
     # the median; bound 20%).
     earth.view_from_ground(latitude=0, altitude=2.0, heading=0, pitch=60, fov=100)
-    earth.set_sun(elevation=45, azimuth=200)
+    earth.set_sun(elevation=45, azimuth=200, latitude=0, longitude=0)
     lum = earth.render_hdr().linear_srgb[..., 1]
     assert lum.min() > 0.2 * np.median(lum)
 
@@ -296,7 +296,7 @@ def test_no_banding_in_a_thick_atmosphere(thick):
     # exo-co2-thick (10 bar, tau = 4 at 440 nm): the sky from the zenith to the horizon changes smoothly, row to
     # row (48 rows over 90 deg): no step above 15% (measured at most 6%).
     thick.view_from_ground(latitude=0, altitude=2.0, heading=0, pitch=46, fov=90)
-    thick.set_sun(elevation=30, azimuth=0)
+    thick.set_sun(elevation=30, azimuth=0, latitude=0, longitude=0)
     lum = thick.render_hdr().linear_srgb[..., 1]
     column = lum[:, SIZE[0] // 2]
     assert column.min() > 0
@@ -312,7 +312,7 @@ def test_no_dark_band_below_the_horizon_in_a_thick_atmosphere(thick):
     # its ground rays' in-scattering as growing with sqrt of their length; single scattering is integrated there
     # since, tables/near_ground.py) it darkened instead, 0.4-12% per row: the dark band below the horizon of
     # other renderers (the gallery's picture of this planet had it).
-    thick.set_sun(elevation=15, azimuth=0)
+    thick.set_sun(elevation=15, azimuth=0, latitude=0, longitude=0)
     thick.view_from_ground(latitude=0, altitude=2.0, heading=180, pitch=-1.5, fov=3.0)
     lum = thick.render_hdr().linear_srgb[..., 1]
     h, w = lum.shape
@@ -328,7 +328,7 @@ def spectral_atmosphere(n=7):
     """exo-mdwarf's composition at ``n`` wavelengths (two texture groups, three read-back passes for n = 7)."""
     import json
     from pathlib import Path
-    from planetviz.presets import load_dict
+    from planetviz.model.presets import load_dict
     data = json.loads((Path(__file__).parents[1] / "assets/atmospheres/exo-mdwarf.json").read_text())
     data["name"] = "exo-mdwarf-spectral"
     data["wavelengths_nm"] = list(np.linspace(420.0, 700.0, n))
@@ -347,7 +347,7 @@ def test_a_spectral_atmosphere_renders_every_wavelength(tmp_path):
     scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=SIZE)
     try:
         scene.view_from_ground(latitude=0, altitude=2.0, heading=90, pitch=3, fov=60)
-        scene.set_sun(elevation=12, azimuth=100)
+        scene.set_sun(elevation=12, azimuth=100, latitude=0, longitude=0)
         hdr = scene.render_hdr()
         rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
         keep = away_from_sun(scene, rows, cols).ravel()
@@ -366,7 +366,7 @@ def test_the_terminator_seen_from_space_has_no_step(earth):
     # (1 pixel ~ 0.6 deg of arc), smoothly: each step (in log) is at most twice the larger of its two
     # neighbours (measured at most 1.3 times), plus 0.2 for the flat day side. A seam is an isolated jump.
     earth.view_from_space(distance=1.6e7, latitude=0, longitude=0, fov=40)
-    earth.set_sun(elevation=0, azimuth=90)                            # the terminator through the centre
+    earth.set_sun(elevation=0, azimuth=90, latitude=0, longitude=0)  # the terminator through the centre
     lum = earth.render_hdr().linear_srgb[..., 1]
     h, w = lum.shape
     row = lum[h // 2, w // 4: 3 * w // 4]
@@ -384,7 +384,7 @@ def test_the_window_shows_the_tone_mapped_linear_radiance(earth, tone_mapping):
     # rounding and float32).
     import colour
     earth.view_from_ground(latitude=0, heading=90, pitch=5, fov=60)
-    earth.set_sun(elevation=4, azimuth=80)
+    earth.set_sun(elevation=4, azimuth=80, latitude=0, longitude=0)
     earth.settings.tone_mapping = tone_mapping
     try:
         x = np.maximum(earth.render_hdr().linear_srgb, 0) * earth.settings.exposure

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from planetviz import load_atmosphere
-from planetviz.quick_view import quick_view_radiance
+from planetviz.quick_view.single_scattering import quick_view_radiance
 from planetviz.reference import solve
 from planetviz.reference.single import single_scattering
 from planetviz.tables.evaluator import sky_radiance

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import check_finite_and_bounded, stored_reference, transmittance_along
 
-from planetviz.quick_view import quick_view_radiance
+from planetviz.quick_view.single_scattering import quick_view_radiance
 from planetviz.tables import QUALITY, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.validation import (EDGE_NAMES, conservative_atmosphere, edge_atmosphere, flux_balance,

@@ -141,10 +141,10 @@ def test_sixty_four_wavelengths_render_as_the_evaluator_says():
             for view in ("ground", "space"):
                 if view == "ground":
                     scene.view_from_ground(latitude=10, heading=80, pitch=3, fov=70)
-                    scene.set_sun(elevation=8, azimuth=100)
+                    scene.set_sun(elevation=8, azimuth=100, latitude=10, longitude=0)
                 else:
                     scene.view_from_space(distance=2e7, latitude=10, longitude=20, fov=40)
-                    scene.set_sun(elevation=20, azimuth=120)
+                    scene.set_sun(elevation=20, azimuth=120, latitude=10, longitude=20)
                 rows, cols = np.meshgrid(np.arange(SIZE[1]), np.arange(SIZE[0]), indexing="ij")
                 dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
                 if shading == "vertex":

@@ -8,7 +8,7 @@ import pytest
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
-from planetviz.color import albedo_matrix  # noqa: E402
+from planetviz.model.color import albedo_matrix  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 from planetviz.render.surface import (cube_face_uv, equirect_colour, srgb_decode, srgb_encode,  # noqa: E402
                                       surface_cube)
@@ -69,7 +69,7 @@ def test_the_ground_shows_the_map_through_the_atmosphere(shading):
     scene = Scene("earth", quality="draft", surface=image, off_screen=True, window_size=size, shading=shading)
     try:
         scene.view_from_space(distance=1.8e7, latitude=25, longitude=40, fov=40)
-        scene.set_sun(elevation=50, azimuth=200)
+        scene.set_sun(elevation=50, azimuth=200, latitude=25, longitude=40)
         rows, cols = np.meshgrid(np.arange(1, size[1], 3), np.arange(1, size[0], 3), indexing="ij")
         dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
         if shading == "vertex":

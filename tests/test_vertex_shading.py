@@ -10,7 +10,7 @@ import pytest
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
 from planetviz import load_atmosphere  # noqa: E402
-from planetviz.geometry import distance_to_ground  # noqa: E402
+from planetviz.model.geometry import distance_to_ground  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 from planetviz.render.direction_mesh import direction_mesh, in_view, may_meet_disc, may_meet_sphere  # noqa: E402
 from planetviz.render.scene import is_software_renderer  # noqa: E402
@@ -30,16 +30,16 @@ def vertex():
 def set_view(scene, view):
     if view == "space":
         scene.view_from_space(distance=1.6e7, latitude=10, longitude=20, fov=40)
-        scene.set_sun(elevation=40, azimuth=120)
+        scene.set_sun(elevation=40, azimuth=120, latitude=10, longitude=20)
     elif view == "ground":
         scene.view_from_ground(latitude=20, altitude=2.0, heading=80, pitch=5, fov=70)
-        scene.set_sun(elevation=15, azimuth=100)
+        scene.set_sun(elevation=15, azimuth=100, latitude=20, longitude=0)
     elif view == "aircraft":
         scene.view_from_ground(latitude=20, altitude=1e4, heading=200, pitch=-10, fov=70)
-        scene.set_sun(elevation=5, azimuth=180)
+        scene.set_sun(elevation=5, azimuth=180, latitude=20, longitude=0)
     else:                                               # space, the terminator across the disc
         scene.view_from_space(distance=2e7, latitude=0, longitude=0, fov=40)
-        scene.set_sun(elevation=0, azimuth=90)
+        scene.set_sun(elevation=0, azimuth=90, latitude=0, longitude=0)
 
 
 @pytest.mark.parametrize("view", ["space", "ground", "aircraft", "terminator"])
@@ -138,7 +138,7 @@ def test_culling_to_the_view_leaves_no_pixel_uncovered(vertex, heading, pitch, f
     # Triangles wholly beyond one side of the view are dropped; the rest must still cover every pixel: in
     # daylight every ray from the ground carries light, so a pixel left at 0 is a hole in the mesh.
     vertex.view_from_ground(latitude=30, altitude=50.0, heading=heading, pitch=pitch, fov=fov)
-    vertex.set_sun(elevation=50, azimuth=200)
+    vertex.set_sun(elevation=50, azimuth=200, latitude=30, longitude=0)
     lum = vertex.render_hdr().linear_srgb[..., 1]
     assert np.all(lum > 0), np.argwhere(lum <= 0)[:5]
     forward = vertex.pixel_directions(np.array([SIZE[1] / 2 - 0.5]), np.array([SIZE[0] / 2 - 0.5]))[0]
@@ -165,10 +165,10 @@ def test_interpolation_error_against_the_per_pixel_renderer(view):
         try:
             if view == "ground":
                 scene.view_from_ground(latitude=45, heading=90, pitch=5)
-                scene.set_sun(elevation=10, azimuth=100)
+                scene.set_sun(elevation=10, azimuth=100, latitude=45, longitude=0)
             else:
                 scene.view_from_space(latitude=20, longitude=10)
-                scene.set_sun(elevation=30, azimuth=100)
+                scene.set_sun(elevation=30, azimuth=100, latitude=20, longitude=10)
             images.append(scene.render_hdr().linear_srgb[..., 1])
         finally:
             scene.close()
@@ -212,7 +212,7 @@ def test_interpolation_never_extrapolates_below_zero(method, shading):
                   shading=shading)
     try:
         scene.view_from_space(latitude=30.0, longitude=0.0)
-        scene.set_sun(elevation=-0.14304245423328377, azimuth=-6.0)
+        scene.set_sun(elevation=-0.14304245423328377, azimuth=-6.0, latitude=30.0, longitude=0.0)
         radiance = scene.render_hdr().radiance
     finally:
         scene.close()

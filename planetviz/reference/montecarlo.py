@@ -48,8 +48,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import distance_to_ground, distance_to_top_exit
-from ..optics.phase import PENNDORF_A, henyey_greenstein, sample_henyey_greenstein, sample_rayleigh_like
+from ..model.geometry import distance_to_ground, distance_to_top_exit
+from ..model.optics.phase import PENNDORF_A, henyey_greenstein, sample_henyey_greenstein, sample_rayleigh_like
 from .optical_depth import optical_depth, shell_segment, sun_transmittance, view_transmittance
 from .shadow import shadow_interval
 from .single import single_scattering
@@ -327,55 +327,75 @@ def _point(atm, w, p, d, t_nodes, tau, t):
 
 
 # ------------------------------------------------------------------ paths
+class _LitMass:
+    """The collision probability along segments p + t d (t in [0, length]) outside the planet's shadow.
+
+    F(t) = 1 - exp(-tau(t)) is the probability of a collision before t; the shadow covers [a, b], so the lit
+    mass is m_lit = F(a) + F(end) - F(b). :meth:`position` inverts it, the shadow skipped."""
+
+    def __init__(self, atm, p, d, sun, length, t_nodes, tau):
+        a, b = shadow_interval(p, d, sun, atm.bottom_radius_m)
+        shade = a < b
+        a = np.where(shade, np.clip(a, 0.0, length), length)
+        b = np.where(shade, np.clip(b, 0.0, length), length)
+        self.meets_shadow = a < b                                 # within the segment
+        self.f_a = -np.expm1(-_locate(t_nodes, tau, a)[2])
+        self.f_b = -np.expm1(-_locate(t_nodes, tau, b)[2])
+        self.f_end = -np.expm1(-tau[:, -1])
+        self.m_lit = self.f_a + (self.f_end - self.f_b)
+        self.t_nodes, self.tau = t_nodes, tau
+
+    def position(self, ok, u):
+        """Distances (P, K) where the lit collision mass of the segments ``ok`` reaches u (P, K)."""
+        m1, f_b, f_end, tn, tb = self.f_a[ok, None], self.f_b[ok, None], self.f_end[ok, None], self.t_nodes[ok], \
+            self.tau[ok]
+        f = np.where(u < m1, u, f_b + (u - m1))
+        with np.errstate(divide="ignore"):                       # f = 1 where the segment is opaque
+            target = np.minimum(-np.log1p(-np.minimum(f, f_end)), tb[:, -1:])
+        k = target.shape[1]
+        return _invert(np.repeat(tn, k, 0), np.repeat(tb, k, 0), target.ravel()).reshape(len(tn), k)
+
+
+def _strata_weights(atm, w, p, d, sun, lit, ok):
+    """(P, STRATA) weights of the strata of equal lit mass of the segments ``ok``: 1, or where the segment
+    meets the shadow T_sun at the stratum's middle (2-panel quadrature; T_sun runs from 0 at the shadow's edge
+    up) plus DEFENSIVE times their mean, so none is left out."""
+    n_ok = int(ok.sum())
+    weights = np.ones((n_ok, STRATA))
+    edge = np.nonzero(lit.meets_shadow[ok])[0]
+    if edge.size:
+        mid = lit.position(ok, (np.arange(STRATA) + 0.5) / STRATA * lit.m_lit[ok, None])[edge]
+        xm = p[ok][edge, None, :] + mid[..., None] * d[ok][edge, None, :]
+        sm = np.broadcast_to(sun[ok][edge, None, :], xm.shape)
+        t_mid = np.exp(-optical_depth(atm, xm, sm, np.inf, panels=2, index=w)[..., 0])
+        t_mid = np.where(np.isfinite(distance_to_ground(xm, sm, atm.bottom_radius_m)), 0.0, t_mid)
+        weights[edge] = t_mid + DEFENSIVE * t_mid.mean(axis=1, keepdims=True)
+        weights[edge[weights[edge].sum(axis=1) <= 0.0]] = 1.0
+    return weights
+
+
 def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
     """Light that the next vertex along p + t d (t in [0, length]) sends straight from the sun toward p.
 
-    One collision drawn from the sun-lit part of the segment (collision probability there m_lit) gives
-    beta_scat exp(-tau) P(d . s) T_sun over its pdf; the directly lit ground at the end adds
-    T(segment) (a / pi) max(0, n . s) T_sun exactly. The lit part is cut into STRATA strata of equal
-    collision probability; on segments that meet the shadow a stratum is chosen in proportion to T_sun at its
-    middle (2-panel quadrature; plus DEFENSIVE times the strata's mean, so none is left out), elsewhere
-    uniformly, and the collision is drawn from the optical-depth table within it.
+    1. The lit part of the segment and its collision probability m_lit (:class:`_LitMass`).
+    2. One collision drawn from it gives beta_scat exp(-tau) P(d . s) T_sun over its pdf. The lit part is cut
+       into STRATA strata of equal collision probability, one chosen by :func:`_strata_weights` (in proportion
+       to T_sun where the segment meets the shadow, else uniformly), the collision drawn from the
+       optical-depth table within it.
+    3. The directly lit ground at the end adds T(segment) (a / pi) max(0, n . s) T_sun exactly.
     """
     out = np.zeros(len(p))
-    a, b = shadow_interval(p, d, sun, atm.bottom_radius_m)
-    shade = a < b
-    a = np.where(shade, np.clip(a, 0.0, length), length)
-    b = np.where(shade, np.clip(b, 0.0, length), length)
-    f_a = -np.expm1(-_locate(t_nodes, tau, a)[2])
-    f_b = -np.expm1(-_locate(t_nodes, tau, b)[2])
-    f_end = -np.expm1(-tau[:, -1])
-    m1, m_lit = f_a, f_a + (f_end - f_b)
-    ok = m_lit > 0.0
+    lit = _LitMass(atm, p, d, sun, length, t_nodes, tau)
+    ok = lit.m_lit > 0.0
     if np.any(ok):
         n_ok = int(ok.sum())
-        tn, tb = t_nodes[ok], tau[ok]
-
-        def position(u):
-            """Distances (P, K) where the lit collision mass reaches u (P, K), the shadow skipped."""
-            f = np.where(u < m1[ok, None], u, f_b[ok, None] + (u - m1[ok, None]))
-            with np.errstate(divide="ignore"):                       # f = 1 where the segment is opaque
-                target = np.minimum(-np.log1p(-np.minimum(f, f_end[ok, None])), tb[:, -1:])
-            k = target.shape[1]
-            return _invert(np.repeat(tn, k, 0), np.repeat(tb, k, 0), target.ravel()).reshape(n_ok, k)
-
-        # Strata of equal lit mass, chosen in proportion to T_sun at their middles (plus a DEFENSIVE share of
-        # the mean) where the segment meets the shadow: T_sun there runs from 0 at the shadow's edge up.
-        weights = np.ones((n_ok, STRATA))
-        edge = np.nonzero((a < b)[ok])[0]                            # segments that meet the shadow
-        if edge.size:
-            mid = position((np.arange(STRATA) + 0.5) / STRATA * m_lit[ok, None])[edge]
-            xm = p[ok][edge, None, :] + mid[..., None] * d[ok][edge, None, :]
-            sm = np.broadcast_to(sun[ok][edge, None, :], xm.shape)
-            t_mid = np.exp(-optical_depth(atm, xm, sm, np.inf, panels=2, index=w)[..., 0])
-            t_mid = np.where(np.isfinite(distance_to_ground(xm, sm, atm.bottom_radius_m)), 0.0, t_mid)
-            weights[edge] = t_mid + DEFENSIVE * t_mid.mean(axis=1, keepdims=True)
-            weights[edge[weights[edge].sum(axis=1) <= 0.0]] = 1.0
+        m_lit = lit.m_lit[ok]
+        weights = _strata_weights(atm, w, p, d, sun, lit, ok)
         cdf = np.cumsum(weights, axis=1)
         pick = np.minimum((rng.random(n_ok)[:, None] * cdf[:, -1:] >= cdf).sum(axis=1), STRATA - 1)
         share = STRATA * weights[np.arange(n_ok), pick] / cdf[:, -1]          # pdf over the plain lit pdf
-        t = position(((pick + rng.random(n_ok)) / STRATA * m_lit[ok])[:, None])[:, 0]
-        x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ok], d[ok], tn, tb, t)
+        t = lit.position(ok, ((pick + rng.random(n_ok)) / STRATA * m_lit)[:, None])[:, 0]
+        x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
         nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
         phase = b_r * atm.rayleigh.phase_function(nu) + b_m * atm.mie.phase_function(nu)[:, w]
         t_sun = sun_transmittance(atm, x, sun[ok], index=w)[:, 0]
@@ -383,18 +403,18 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
         # on opaque segments).
         dens = sigma * share                              # 0 only where the air is too thin to represent
         ratio = np.where(dens > 0.0, np.exp(tau_t - tau_exact) / np.where(dens > 0.0, dens, 1.0), 0.0)
-        out[ok] = m_lit[ok] * ratio * phase * t_sun
+        out[ok] = m_lit * ratio * phase * t_sun
     albedo = float(atm.ground_albedo[w])
     if albedo > 0.0 and np.any(ground):
         g = np.nonzero(ground)[0]
         xg = p[g] + length[g, None] * d[g]
         normal = xg / np.linalg.norm(xg, axis=1, keepdims=True)
         cos_s = np.einsum("ij,ij->i", normal, sun[g])
-        lit = cos_s > 0.0
-        if np.any(lit):
-            gl = g[lit]
-            t_sun = sun_transmittance(atm, normal[lit] * atm.bottom_radius_m, sun[gl], index=w)[:, 0]
-            out[gl] += np.exp(-tau[gl, -1]) * albedo / np.pi * cos_s[lit] * t_sun
+        lit_ground = cos_s > 0.0
+        if np.any(lit_ground):
+            gl = g[lit_ground]
+            t_sun = sun_transmittance(atm, normal[lit_ground] * atm.bottom_radius_m, sun[gl], index=w)[:, 0]
+            out[gl] += np.exp(-tau[gl, -1]) * albedo / np.pi * cos_s[lit_ground] * t_sun
     return out
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import distance_to_ground, distance_to_top_exit, ray_sphere
+from ..model.geometry import distance_to_ground, distance_to_top_exit, ray_sphere
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
 
@@ -98,7 +98,7 @@ def ground_sun_transmittance(atm, elevation_deg):
     the longer, refracted path near the horizon (defined for h >= 0; below the horizon the sun is
     taken as set, T = 0).
     """
-    from ..optics.airmass import pickering_transmittance
+    from ..model.optics.airmass import pickering_transmittance
     h = np.atleast_1d(np.asarray(elevation_deg, dtype=float))
     if atm.air_mass == "pickering":
         tau_zenith = optical_depth(atm, [[0.0, 0.0, atm.bottom_radius_m]], [[0.0, 0.0, 1.0]], np.inf)[0]

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import distance_to_ground
+from ..model.geometry import distance_to_ground
 from .optical_depth import gauss_legendre_panels, optical_depth, shell_segment, sun_transmittance
 from .shadow import shadow_interval
 

@@ -20,7 +20,7 @@ from vtkmodules.vtkCommonCore import VTK_OBJECT, vtkCommand
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
-from ..color import albedo_matrix
+from ..model.color import albedo_matrix
 from ..tables.horizon import horizon_quadrature_applies
 from ..tables.near_ground import near_ground_altitude
 from ..tables.parameterization import MU_S_MIN

@@ -1,6 +1,6 @@
 """The quick view as one VTK actor (plain ``vtkmodules``): Keller and Bohn's single scattering computed per vertex
 of the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/quick_view_vertex.glsl, the twin
-of planetviz/quick_view.py), with no tables, so every atmosphere parameter takes effect at the next frame. Colours
+of planetviz/quick_view/single_scattering.py), with no tables, so every atmosphere parameter takes effect at the next frame. Colours
 are interpolated over the triangles and tone-mapped per fragment; the surface is the atmosphere file's uniform
 albedo.
 """
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..quick_view import SAMPLING, coefficients, check_settings
+from ..quick_view.single_scattering import SAMPLING, coefficients, check_settings
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from .textures import MAX_GROUPS, group_count, pad_groups

@@ -13,11 +13,11 @@ import numpy as np
 import pyvista as pv
 from vtkmodules.vtkCommonCore import vtkCommand
 
-from ..atmosphere import Atmosphere
-from ..geometry import EYE_HEIGHT_M, local_frame, site_direction
-from ..presets import load_atmosphere
-from ..color import linear_srgb
-from ..optics.light import star_irradiance
+from ..model.atmosphere import Atmosphere
+from ..model.geometry import EYE_HEIGHT_M, SunPlacement, local_frame, site_direction
+from ..model.presets import load_atmosphere
+from ..model.color import linear_srgb
+from ..model.optics.light import star_irradiance
 from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.precompute import QUALITY, precompute
 from .atmosphere_actor import AtmosphereActor
@@ -65,6 +65,11 @@ class HDRImage:
         write_exr(path, self.linear_srgb, self.spectral_radiance, self.wavelengths_nm, metadata or {})
 
 
+#: The sun's elevation, azimuth, and the latitude and longitude of the site they are seen from [deg], when a
+#: scene starts.
+SUN_DEFAULT = (30.0, 135.0, 0.0, 0.0)
+
+
 class Scene(pv.Plotter):
     """A planet with its atmosphere, rendered from precomputed tables (paper Sect. 5).
 
@@ -99,7 +104,7 @@ class Scene(pv.Plotter):
     >>> import planetviz
     >>> scene = planetviz.Scene("earth", quality="draft", off_screen=True, window_size=(320, 240))
     >>> scene.view_from_ground(latitude=45, heading=90, pitch=5)
-    >>> scene.set_sun(elevation=3, azimuth=90)
+    >>> scene.set_sun(elevation=3, azimuth=90, latitude=45)
     >>> scene.screenshot("sunset.png")  # doctest: +SKIP
     >>> hdr = scene.render_hdr()       # linear radiance, float32
     """
@@ -128,12 +133,11 @@ class Scene(pv.Plotter):
         self.quick = None                     # the quick-view actor, made on first use
         self.quick_samples, self.quick_terms = quick_samples, quick_terms
         self.table_error = None               # why the last background precompute failed, if it did
-        self._sun = site_direction(30.0, 135.0)
-        self._site = (0.0, 0.0)
+        self.sun = SunPlacement(*SUN_DEFAULT)
+        self._sun = self.sun.direction()
         self._method = None
         self.add_planet(atmosphere, quality=quality, surface=surface, cache=cache, method=method)
         self.view_from_space()
-        self.set_sun(elevation=30.0, azimuth=135.0)
 
     # --------------------------------------------------------------------------------------------- planet
     def add_planet(self, atmosphere="earth", quality="standard", surface="texture", cache=True, method="tables"):
@@ -294,14 +298,17 @@ class Scene(pv.Plotter):
         return self.planet if self.planet is not None else self.quick
 
     # ------------------------------------------------------------------------------------------------ sun
-    def set_sun(self, elevation=30.0, azimuth=0.0, latitude=None, longitude=None):
-        """Put the sun at ``elevation`` and ``azimuth`` [deg] seen from a site (default: the point below the
-        camera)."""
-        for name, value, lo, hi in (("elevation", elevation, -90, 90), ("azimuth", azimuth, -360, 360)):
-            if not (np.isfinite(value) and lo <= value <= hi):
-                raise ValueError(f"sun {name}: [{lo}, {hi}] deg, got {value!r}")
-        lat, lon = self._site if latitude is None else (latitude, longitude if longitude is not None else 0.0)
-        self.sun_direction = site_direction(elevation, azimuth, lat, lon)
+    def set_sun(self, elevation=None, azimuth=None, latitude=None, longitude=None):
+        """Put the sun at ``elevation`` and ``azimuth`` [deg, azimuth from north through east] seen from the site
+        at ``latitude`` and ``longitude`` [deg]; what is left out keeps its value (:attr:`sun`). The camera
+        never moves the sun.
+
+        >>> scene.set_sun(elevation=-4)                                        # doctest: +SKIP
+        >>> scene.set_sun(elevation=10, azimuth=250, latitude=45, longitude=7)  # doctest: +SKIP
+        """
+        changes = dict(elevation=elevation, azimuth=azimuth, latitude=latitude, longitude=longitude)
+        placement = SunPlacement(**{**vars(self.sun), **{k: v for k, v in changes.items() if v is not None}})
+        self._apply_sun(placement, placement.direction())
 
     @property
     def sun_direction(self):
@@ -309,10 +316,16 @@ class Scene(pv.Plotter):
 
     @sun_direction.setter
     def sun_direction(self, value):
+        """The sun's planet-centred unit direction; :attr:`sun` becomes its elevation and azimuth seen from
+        the same site."""
         v = np.asarray(value, dtype=float)
         if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
             raise ValueError(f"sun_direction: a finite non-zero 3-vector, got {value!r}")
-        self._sun = v / np.linalg.norm(v)
+        v = v / np.linalg.norm(v)
+        self._apply_sun(SunPlacement.seen_from(v, self.sun.latitude, self.sun.longitude), v)
+
+    def _apply_sun(self, placement, direction):
+        self.sun, self._sun = placement, direction
         for actor in (self.planet, self.quick):
             if actor is not None:
                 actor.sun_direction = self._sun
@@ -365,7 +378,6 @@ class Scene(pv.Plotter):
         the centre, north up."""
         distance = 4.0 * self.atmosphere.bottom_radius_m if distance is None else float(distance)
         up, _, north = local_frame(latitude, longitude)
-        self._site = (latitude, longitude)
         self.set_view(up * distance, -up, up=north, fov=fov)
 
     def view_from_ground(self, latitude=0.0, longitude=0.0, altitude=2.0, heading=0.0, pitch=10.0, fov=60.0):
@@ -374,7 +386,6 @@ class Scene(pv.Plotter):
         if not (np.isfinite(altitude) and altitude >= 0):
             raise ValueError(f"altitude: >= 0 m, got {altitude!r}")
         up, _, _ = local_frame(latitude, longitude)
-        self._site = (latitude, longitude)
         self.set_view(up * (self.atmosphere.bottom_radius_m + altitude),
                       site_direction(pitch, heading, latitude, longitude), fov=fov)
 

@@ -71,8 +71,8 @@ def srgb_encode(c):
 
 def equirect_colour(image, n):
     """Linear colour (..., 3) of the equirectangular sRGB ``image`` (h, w, 3 uint8, top row north) at the unit
-    directions ``n`` (..., 3), bilinear in linear values with longitude wrapping: how the GPU read the map before
-    it became a cube (shaders/pixel.glsl), the reference :func:`surface_cube` is built from and tested against."""
+    directions ``n`` (..., 3), bilinear in linear values with longitude wrapping: the map read directly, which
+    :func:`surface_cube` resamples and is tested against."""
     return _bilinear(_linear_rows(image), np.asarray(n))
 
 

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..color import linear_srgb_matrix
-from ..optics.phase import PENNDORF_A
+from ..model.color import linear_srgb_matrix
+from ..model.optics.phase import PENNDORF_A
 from .textures import MAX_GROUPS, group_count, pad_groups
 
 TONE_MAPPINGS = {"exponential": 0, "filmic": 1, "clamp": 2}

@@ -39,9 +39,6 @@ import numpy as np
 #: Bump when the content or layout of any table changes: older files are then recomputed.
 FORMAT_VERSION = 17
 
-STAGES = ("transmittance", "single_scattering", "multiple_scattering")
-
-
 def default_directory() -> Path:
     return Path(os.environ.get("PLANETVIZ_CACHE") or Path.home() / ".cache" / "planetviz")
 

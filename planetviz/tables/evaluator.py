@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import ray_sphere
-from ..queries import validate_queries
+from ..model.geometry import ray_sphere
+from ..model.queries import validate_queries
 from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
 from .lookup import (get_irradiance, get_scattering, get_transmittance, ground_row_factor,

@@ -42,7 +42,7 @@ from .nodes import LONG_RAY_NODE_FACTOR, is_optically_thick, ray_nodes, scatteri
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
-from ..optics.phase import PENNDORF_A, double_henyey_greenstein
+from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
 
 #: In optically thick atmospheres (vertical optical depth above 1 at some wavelength) the scattering density is
 #: iterated from itself on this many times S's r rows: the incident light at its points integrated from the

@@ -180,13 +180,63 @@ def single_scattering(tables: Tables, atm, progress=None):
     return out_r, out_m
 
 
+def stage_shapes(sizes: TableSizes, n_wavelengths: int) -> dict:
+    """{stage: {array name: shape}} of the three stages' tables."""
+    W = n_wavelengths
+    n_nu, n_mu_s, n_mu, n_r = sizes.scattering
+    n_mu_t, n_r_t = sizes.transmittance
+    m_nu, m_mu_s, m_mu, m_r = sizes.multiple
+    return {"transmittance": {"optical_depth": (n_r_t, n_mu_t, W)},
+            "single_scattering": {"rayleigh": (n_r, n_mu, n_nu, n_mu_s, W), "mie": (n_r, n_mu, n_nu, n_mu_s, W)},
+            "multiple_scattering": {"multiple": (m_r, m_mu, m_nu, m_mu_s, W),
+                                    "multiple_mie": (m_r, m_mu, m_nu, m_mu_s, W),
+                                    "irradiance": sizes.irradiance[::-1] + (W,)}}
+
+
+class _Stages:
+    """Runs a stage, or loads it from the cache when its parameters did not change; records its time and
+    whether it ran, and reports it to ``progress``."""
+
+    def __init__(self, atm, sizes, cache, progress):
+        self.params = stage_parameters(atm, sizes)
+        self.keys = {stage: parameters_hash(p) for stage, p in self.params.items()}
+        self.shapes = stage_shapes(sizes, atm.n_wavelengths)
+        self.wavelengths, self.cache, self.progress = atm.wavelengths_nm, cache, progress
+        self.timings, self.computed = {}, []
+
+    def run(self, name, compute):
+        """The arrays of stage ``name`` (float32) and their ``attrs``; ``compute() -> (arrays, attrs)``."""
+        found = (self.cache.load(name, self.keys[name], self.wavelengths, self.shapes[name])
+                 if self.cache is not None else None)
+        if found is not None:
+            self.timings[name] = 0.0
+            if self.progress:
+                self.progress(f"{name} (cached)", 1.0)
+            return found
+        t0 = time.perf_counter()
+        arrays, attrs = compute()
+        arrays = {k: v.astype(np.float32) for k, v in arrays.items()}
+        self.timings[name] = time.perf_counter() - t0
+        self.computed.append(name)
+        if self.progress:
+            self.progress(name, 1.0)
+        if self.cache is not None:
+            self.cache.store(name, self.keys[name], self.params[name], self.wavelengths, arrays, attrs)
+        return {**arrays, "attrs": attrs}
+
+
 def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, progress=None,
                cache=None) -> Tables:
     """All tables for ``atm``: transmittance, single scattering, and (``multiple``) every order above.
 
     ``cache`` (a :class:`~planetviz.tables.cache.TableCache`, or None for no disk cache) supplies the stages
     whose parameters did not change and stores the ones computed; ``Tables.computed`` lists the stages
-    that ran. ``progress(stage, fraction)`` is called as the stages advance (for a progress bar).
+    that ran. ``progress(stage, fraction)`` is called as the stages advance (for a progress bar). The steps:
+
+    1. the sizes for this atmosphere (:func:`sizes_for`);
+    2. the optical depth to the top of the atmosphere, T(r, mu);
+    3. single scattering, Rayleigh and Mie, S(r, mu, mu_s, nu), read through the transmittance table;
+    4. the orders above the first and the ground irradiance, until they converge (``multiple``; else zeros).
 
     Example
     -------
@@ -196,47 +246,16 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     >>> tables.orders >= 2
     True
     """
-    clock = time.perf_counter
     sizes = sizes_for(atm, sizes)
-    W = atm.n_wavelengths
-    wavelengths = atm.wavelengths_nm
-    params = stage_parameters(atm, sizes)
-    keys = {stage: parameters_hash(p) for stage, p in params.items()}
-    n_nu, n_mu_s, n_mu, n_r = sizes.scattering
-    n_mu_t, n_r_t = sizes.transmittance
-    m_nu, m_mu_s, m_mu, m_r = sizes.multiple
-    shapes = {"transmittance": {"optical_depth": (n_r_t, n_mu_t, W)},
-              "single_scattering": {"rayleigh": (n_r, n_mu, n_nu, n_mu_s, W), "mie": (n_r, n_mu, n_nu, n_mu_s, W)},
-              "multiple_scattering": {"multiple": (m_r, m_mu, m_nu, m_mu_s, W),
-                                      "multiple_mie": (m_r, m_mu, m_nu, m_mu_s, W),
-                                      "irradiance": sizes.irradiance[::-1] + (W,)}}
-    timings, computed = {}, []
-
-    def stage(name, compute):
-        found = cache.load(name, keys[name], wavelengths, shapes[name]) if cache is not None else None
-        if found is not None:
-            timings[name] = 0.0
-            if progress:
-                progress(f"{name} (cached)", 1.0)
-            return found
-        t0 = clock()
-        arrays, attrs = compute()
-        arrays = {k: v.astype(np.float32) for k, v in arrays.items()}
-        timings[name] = clock() - t0
-        computed.append(name)
-        if progress:
-            progress(name, 1.0)
-        if cache is not None:
-            cache.store(name, keys[name], params[name], wavelengths, arrays, attrs)
-        return {**arrays, "attrs": attrs}
-
-    tau = stage("transmittance", lambda: ({"optical_depth": optical_depth_to_top(atm, sizes)}, {}))
+    stages = _Stages(atm, sizes, cache, progress)
+    shapes = stages.shapes["multiple_scattering"]
+    tau = stages.run("transmittance", lambda: ({"optical_depth": optical_depth_to_top(atm, sizes)}, {}))
     tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, tau["optical_depth"],
-                    np.zeros(shapes["multiple_scattering"]["irradiance"], np.float32), np.empty(0), np.empty(0))
-    single = stage("single_scattering",
-                   lambda: (dict(zip(("rayleigh", "mie"), single_scattering(tables, atm, progress))), {}))
+                    np.zeros(shapes["irradiance"], np.float32), np.empty(0), np.empty(0))
+    single = stages.run("single_scattering",
+                        lambda: (dict(zip(("rayleigh", "mie"), single_scattering(tables, atm, progress))), {}))
     tables.rayleigh, tables.mie = single["rayleigh"], single["mie"]
-    tables.multiple = np.zeros(shapes["multiple_scattering"]["multiple"], np.float32)
+    tables.multiple = np.zeros(shapes["multiple"], np.float32)
     tables.multiple_mie = np.zeros_like(tables.multiple)
     if multiple:
         def orders():
@@ -244,8 +263,8 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
                                                      samples=sizes.multiple_samples, tolerance=sizes.tolerance,
                                                      progress=progress)
             return {"multiple": ms, "multiple_mie": ms_mie, "irradiance": irr}, {"orders": int(n)}
-        ms = stage("multiple_scattering", orders)
+        ms = stages.run("multiple_scattering", orders)
         tables.multiple, tables.multiple_mie, tables.irradiance = ms["multiple"], ms["multiple_mie"], ms["irradiance"]
         tables.orders = int(ms["attrs"]["orders"])
-    tables.timings, tables.computed = timings, computed
+    tables.timings, tables.computed = stages.timings, stages.computed
     return tables

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from planetviz.gui import PlanetApp
-from planetviz.presets import PRESETS
+from planetviz.app.window import PlanetApp
+from planetviz.model.presets import PRESETS
 from planetviz.render import Scene
 
 

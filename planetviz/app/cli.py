@@ -1,6 +1,6 @@
 """The ``planetviz`` command.
 
-    planetviz sky        [--atmosphere A] [--sun-elevation DEG] [--quality Q]
+    planetviz sky        [--atmosphere A] [--sun-elevation DEG] [--sun-azimuth DEG] [--quality Q]
     planetviz atmosphere PRESET_OR_FILE
     planetviz precompute --atmosphere A [--quality draft|standard|high] [--no-cache]
     planetviz queries    [--atmosphere A] --out Q.npz [--latitude DEG] [--longitude DEG] [--altitude M]
@@ -11,7 +11,7 @@
     planetviz render     [--atmosphere|--preset A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
                          [--size WxH] [--screenshot OUT.png] [--exr OUT.exr] [--quality Q]
                          [--method tables|quick] [--samples N] [--sweep-sun A B STEP | --flight N]
-                         [--fisheye DOME.png|.exr] [--panorama SKY.exr]   (planetviz/render_cli.py)
+                         [--fisheye DOME.png|.exr] [--panorama SKY.exr]   (planetviz/app/render_options.py)
 
 Tables are cached in $PLANETVIZ_CACHE (default ~/.cache/planetviz) as OpenEXR files; --no-cache
 computes them afresh and writes nothing.
@@ -25,10 +25,10 @@ import sys
 
 import numpy as np
 
-from .geometry import EYE_HEIGHT_M
-from .presets import PRESETS, load_atmosphere
-from .reference.montecarlo import QUALITY_SAMPLES as REFERENCE_SAMPLES
-from .render_cli import add_render_options, run_render
+from ..model.geometry import EYE_HEIGHT_M
+from ..model.presets import PRESETS, load_atmosphere
+from ..reference.montecarlo import QUALITY_SAMPLES as REFERENCE_SAMPLES
+from .render_options import add_render_options, run_render
 
 
 
@@ -63,32 +63,32 @@ def _cmd_atmosphere(args) -> int:
 
 
 def _table_cache(args):
-    from .tables.cache import TableCache
+    from ..tables.cache import TableCache
     return None if args.no_cache else TableCache()
 
 
 def _solve(atm, queries, method, quality, samples, seed, cache=None):
     if method == "tables":
-        from .reference import ReferenceResult
-        from .tables.evaluator import sky_radiance
-        from .tables.precompute import QUALITY, precompute
+        from ..reference import ReferenceResult
+        from ..tables.evaluator import sky_radiance
+        from ..tables.precompute import QUALITY, precompute
         radiance, transmittance = sky_radiance(precompute(atm, QUALITY[quality], cache=cache), atm,
                                                queries.camera_m, queries.view_dir, queries.sun_dir)
         return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, 0)
     if method == "quick":
-        from .quick_view import quick_view_radiance
-        from .reference import ReferenceResult
+        from ..quick_view.single_scattering import quick_view_radiance
+        from ..reference import ReferenceResult
         n = 8 if samples is None else samples
         radiance, transmittance = quick_view_radiance(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
                                                     samples=n)
         return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, n)
-    from .reference import solve
+    from ..reference import solve
     return solve(atm, queries.camera_m, queries.view_dir, queries.sun_dir,
                  samples=samples or REFERENCE_SAMPLES[quality], seed=seed)
 
 
 def _cmd_radiance(args) -> int:
-    from .queries import load_queries
+    from ..model.queries import load_queries
     atm = load_atmosphere(args.atmosphere)
     queries = load_queries(args.queries, atm.bottom_radius_m)
     result = _solve(atm, queries, args.method, args.quality, args.samples, args.seed,
@@ -103,7 +103,7 @@ def _cmd_radiance(args) -> int:
 
 
 def _cmd_queries(args) -> int:
-    from .queries import site_queries
+    from ..model.queries import site_queries
     atm = load_atmosphere(args.atmosphere)
     q = site_queries(atm.bottom_radius_m, args.latitude, args.longitude, args.altitude, args.sun_elevation,
                      args.sun_azimuth, args.elevations, args.azimuths)
@@ -114,27 +114,31 @@ def _cmd_queries(args) -> int:
 
 
 def _cmd_sky(args) -> int:
-    from .color import radiance_to_srgb
-    from .reference import ground_sun_transmittance, solve
+    """The sky seen from eye height at a site on the equator (latitude and longitude 0), with the sun at
+    ``--sun-elevation`` and ``--sun-azimuth`` (from north through east, as everywhere): six views named by
+    their place relative to the sun, by the reference solver."""
+    from ..model.color import radiance_to_srgb
+    from ..model.geometry import local_frame, site_direction
+    from ..reference import ground_sun_transmittance, solve
     atm = load_atmosphere(args.atmosphere)
-    elev = np.radians(args.sun_elevation)
-    sun = np.array([np.cos(elev), 0.0, np.sin(elev)])
-    camera = np.array([0.0, 0.0, atm.bottom_radius_m + EYE_HEIGHT_M])
-    views = {"zenith": (90, 0), "45 deg toward sun": (45, 0), "45 deg away from sun": (45, 180),
-             "horizon toward sun": (2, 0), "horizon at 90 deg": (2, 90), "horizon away from sun": (2, 180)}
-    dirs = np.array([[np.cos(np.radians(e)) * np.cos(np.radians(a)), np.cos(np.radians(e)) * np.sin(np.radians(a)),
-                      np.sin(np.radians(e))] for e, a in views.values()])
+    sun = site_direction(args.sun_elevation, args.sun_azimuth)
+    camera = (atm.bottom_radius_m + EYE_HEIGHT_M) * local_frame(0.0, 0.0)[0]
+    relative = {"zenith": (90, 0), "45 deg toward sun": (45, 0), "45 deg away from sun": (45, 180),
+                "horizon toward sun": (2, 0), "horizon at 90 deg": (2, 90), "horizon away from sun": (2, 180)}
+    views = {name: (e, (args.sun_azimuth + a) % 360.0) for name, (e, a) in relative.items()}
+    dirs = np.array([site_direction(e, a) for e, a in views.values()])
     res = solve(atm, np.repeat(camera[None], len(dirs), 0), dirs, sun,
                 samples=REFERENCE_SAMPLES[args.quality], seed=args.seed)
     rgb = radiance_to_srgb(res.radiance, atm)
-    print(f"{atm.name}: sky seen from {EYE_HEIGHT_M:g} m above the ground, sun {args.sun_elevation:g} deg above the horizon "
-          f"(reference solver, {res.samples} paths per ray)")
-    print(f"{'view':>22}  " + "  ".join(f"L({lam:g} nm) [1/sr]" for lam in atm.wavelengths_nm) + "   sRGB (8-bit)")
+    print(f"{atm.name}: sky seen from {EYE_HEIGHT_M:g} m above the ground, sun {args.sun_elevation:g} deg above the "
+          f"horizon at azimuth {args.sun_azimuth:g} deg (reference solver, {res.samples} paths per ray)")
+    print(f"{'view':>22}  {'el, az [deg]':>12}  " + "  ".join(f"L({lam:g} nm) [1/sr]" for lam in atm.wavelengths_nm) + "   sRGB (8-bit)")
     for k, name in enumerate(views):
         vals = "  ".join(f"{v:10.4e} +- {e:7.1e}" for v, e in zip(res.radiance[k], res.stderr[k]))
-        print(f"{name:>22}  {vals}   {tuple(int(c) for c in rgb[k])}")
+        el, az = views[name]
+        print(f"{name:>22}  {el:5g}, {az:5g}  {vals}   {tuple(int(c) for c in rgb[k])}")
     sun_t = ground_sun_transmittance(atm, args.sun_elevation)[0]
-    print(f"{'sun disc transmittance':>22}  " + "  ".join(f"{t:10.4f}" + " " * 11 for t in sun_t)
+    print(f"{'sun disc transmittance':>22}  {'':>12}  " + "  ".join(f"{t:10.4f}" + " " * 11 for t in sun_t)
           + f"   ({atm.air_mass} air mass)")
     print("(radiance per unit solar irradiance at the top of the atmosphere; colour: spectral radiance x star "
           "spectrum -> CIE XYZ -> sRGB, exposure so that the brightest view is 0.8)")
@@ -157,7 +161,7 @@ class _ProgressBar:
 
 
 def _cmd_precompute(args) -> int:
-    from .tables.precompute import QUALITY, precompute
+    from ..tables.precompute import QUALITY, precompute
     atm = load_atmosphere(args.atmosphere)
     bar = _ProgressBar(sys.stdout)
     cache = _table_cache(args)
@@ -185,6 +189,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sky", help="print the sky seen from the ground (the default Earth sky)")
     p.add_argument("--atmosphere", default="earth", help=f"preset ({presets}) or JSON file")
     p.add_argument("--sun-elevation", type=float, default=30.0, help="degrees above the horizon")
+    p.add_argument("--sun-azimuth", type=float, default=180.0, help="from north through east [deg]")
     p.add_argument("--quality", choices=REFERENCE_SAMPLES, default="draft")
     p.add_argument("--seed", type=int, default=0)
     p.set_defaults(func=_cmd_sky)

@@ -7,6 +7,8 @@ c = (r - R)(r + R) with the root of smaller magnitude taken as c / q.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 
@@ -78,3 +80,36 @@ def site_of(position):
     """(latitude, longitude) [deg] of the point below a planet-centred position."""
     x, y, z = np.asarray(position, dtype=float)
     return float(np.degrees(np.arctan2(z, np.hypot(x, y)))), float(np.degrees(np.arctan2(y, x)))
+
+
+@dataclass(frozen=True)
+class SunPlacement:
+    """The sun at ``elevation`` and ``azimuth`` (from north through east) [deg], seen from the site at
+    ``latitude`` and ``longitude`` [deg]; checked when made."""
+
+    elevation: float
+    azimuth: float
+    latitude: float
+    longitude: float
+
+    def __post_init__(self):
+        for name, lo, hi in (("elevation", -90, 90), ("azimuth", -360, 360), ("latitude", -90, 90),
+                             ("longitude", -360, 360)):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float, np.integer, np.floating)) and np.isfinite(value)
+                    and lo <= value <= hi):
+                raise ValueError(f"sun {name}: [{lo}, {hi}] deg, got {value!r}")
+            object.__setattr__(self, name, float(value))
+
+    def direction(self):
+        """The sun's planet-centred unit direction (normalised again, as every direction the scene is given)."""
+        v = site_direction(self.elevation, self.azimuth, self.latitude, self.longitude)
+        return v / np.linalg.norm(v)
+
+    @classmethod
+    def seen_from(cls, direction, latitude, longitude):
+        """The placement of a planet-centred unit ``direction`` seen from a site."""
+        up, east, north = local_frame(latitude, longitude)
+        elevation = np.degrees(np.arcsin(np.clip(direction @ up, -1.0, 1.0)))
+        azimuth = np.degrees(np.arctan2(direction @ east, direction @ north))
+        return cls(float(elevation), float(azimuth), latitude, longitude)

@@ -6,7 +6,6 @@ import numpy as np
 BOLTZMANN = 1.380649e-23          # J/K
 AVOGADRO = 6.02214076e23          # 1/mol
 GAS_CONSTANT = BOLTZMANN * AVOGADRO  # J/(mol K)
-LOSCHMIDT = 101325.0 / (BOLTZMANN * 273.15)  # molecules/m^3 at 0 degC, 1 atm
 
 
 def king_factor(depolarization):

@@ -10,7 +10,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..resources import read_data_csv
+from ...resources import read_data_csv
 
 PLANCK = 6.62607015e-34
 LIGHT_SPEED = 299792458.0

@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import distance_to_ground, distance_to_top_exit
-from .queries import validate_queries
-from .reference.optical_depth import shell_segment
+from ..model.geometry import distance_to_ground, distance_to_top_exit
+from ..model.queries import validate_queries
+from ..reference.optical_depth import shell_segment
 
 #: Exponents of the sample positions (i / n)^e: the scattering integral, the optical depths.
 SAMPLING = {"power": (3.0, 2.0), "equidistant": (1.0, 1.0)}

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import local_frame, site_of
-from .tables.evaluator import sky_radiance
+from ..model.geometry import local_frame, site_of
+from .evaluator import sky_radiance
 
 
 def equirectangular_directions(camera, width, height):

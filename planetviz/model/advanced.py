@@ -2,7 +2,7 @@
 
 An advanced file has ``"mode": "advanced"`` and the same geometry fields as a standard file;
 its ``rayleigh``, ``mie`` and ``absorption`` entries hold physical quantities instead of
-coefficients. :func:`derive` turns it into an :class:`~planetviz.atmosphere.Atmosphere`, which
+coefficients. :func:`derive` turns it into an :class:`~planetviz.model.atmosphere.Atmosphere`, which
 is what everything else uses. The format, field by field, is in docs/atmosphere-format.md.
 
 Rayleigh (one of):
@@ -23,7 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .atmosphere import LIMITS, AtmosphereError, _Reader, check_number, from_dict
+from .atmosphere import FieldReader, from_dict
+from .limits import LIMITS, AtmosphereError, check_number
 from .optics.absorption import (oxygen_absorption, oxygen_cia, oxygen_cia_absorption, ozone_column_du,
                                 ozone_cross_section, ozone_profile_table, small_particle_absorption)
 from .optics.composition import GASES, mean_molar_mass, mixture_cross_section
@@ -32,11 +33,11 @@ from .optics.mie import (mie_absorption_particles, mie_extinction_particles,
 from .optics.rayleigh import number_density, rayleigh_scattering, scale_height
 
 
-def _scale_height(r: _Reader, default_molar_mass=None) -> float:
+def _scale_height(r: FieldReader, default_molar_mass=None) -> float:
     lo, hi = LIMITS["scale_height_m"]
     if r.has("scale_height_m"):
         return r.number("scale_height_m", lo, hi)
-    hr = _Reader(r.get("hydrostatic"), r.name("hydrostatic"))
+    hr = FieldReader(r.get("hydrostatic"), r.name("hydrostatic"))
     if default_molar_mass is not None and not hr.has("molar_mass_kg_mol"):
         molar = default_molar_mass
     else:
@@ -48,7 +49,7 @@ def _scale_height(r: _Reader, default_molar_mass=None) -> float:
 
 
 def _rayleigh(data, lam_m, n):
-    r = _Reader(data, "rayleigh", n)
+    r = FieldReader(data, "rayleigh", n)
     if r.has("gases"):
         gases = r.get("gases")
         if not isinstance(gases, dict) or not gases:
@@ -79,7 +80,7 @@ def _rayleigh(data, lam_m, n):
 
 
 def _particles(data, path, lam_m, n):
-    pr = _Reader(data, path, n)
+    pr = FieldReader(data, path, n)
     radius = pr.number("radius_m", 0.0, 1e-3, lo_open=True)
     m = np.array(pr.numbers("refractive_index_real", 1.0, 10.0, lo_open=True))
     k = np.array(pr.numbers("refractive_index_imag", 0.0, 10.0))
@@ -91,7 +92,7 @@ def _particles(data, path, lam_m, n):
 
 
 def _mie(data, lam_m, n):
-    r = _Reader(data, "mie", n)
+    r = FieldReader(data, "mie", n)
     particles = None
     if r.has("particles"):
         particles = _particles(r.get("particles"), "mie.particles", lam_m, n)
@@ -101,7 +102,7 @@ def _mie(data, lam_m, n):
             raise AtmosphereError("mie.scattering", '"particles" needs a mie.particles entry')
         scat = particles[0] - particles[1]
     else:
-        sr = _Reader(scat_spec, "mie.scattering", n)
+        sr = FieldReader(scat_spec, "mie.scattering", n)
         scat = mie_scattering_turbidity(lam_m, sr.number("turbidity", 1.0, 64.0),
                                         sr.number("junge_exponent", 2.0, 6.0), np.array(sr.numbers("k", 0.0, 100.0)))
         sr.done()
@@ -111,7 +112,7 @@ def _mie(data, lam_m, n):
             raise AtmosphereError("mie.extinction", '"particles" needs a mie.particles entry')
         ext = particles[0]
     else:
-        er = _Reader(ext_spec, "mie.extinction", n)
+        er = FieldReader(ext_spec, "mie.extinction", n)
         ratio = er.number("scattering_ratio", 0.0, 1.0, lo_open=True)
         er.done()
         ext = scat / ratio
@@ -128,7 +129,7 @@ def _mie(data, lam_m, n):
 
 def _absorption(data, i, lam_m, n):
     path = f"absorption[{i}]"
-    r = _Reader(data, path, n)
+    r = FieldReader(data, path, n)
     species = r.string("species", ("O3", "O2", "particles"))
     if species == "O3":
         alt, dens = ozone_profile_table()
@@ -165,7 +166,7 @@ def _absorption(data, i, lam_m, n):
 
 def derive_dict(data: dict) -> dict:
     """The standard-mode dict derived from an advanced-mode dict (raises AtmosphereError)."""
-    r = _Reader(data, "")
+    r = FieldReader(data, "")
     r.string("mode", ("advanced",))
     wl = r.get("wavelengths_nm")
     if not isinstance(wl, list) or not 1 <= len(wl) <= LIMITS["max_wavelengths"]:
@@ -188,6 +189,6 @@ def derive_dict(data: dict) -> dict:
 
 
 def derive(data: dict):
-    """The validated :class:`~planetviz.atmosphere.Atmosphere` of an advanced-mode dict."""
+    """The validated :class:`~planetviz.model.atmosphere.Atmosphere` of an advanced-mode dict."""
     return from_dict(derive_dict(data))
 

@@ -2,7 +2,7 @@
 
 Standard mode is the contract of docs/atmosphere-format.md: every field in SI units,
 per-wavelength lists with one value per entry of ``wavelengths_nm``. The advanced
-and composition modes (:mod:`planetviz.physical`) derive an :class:`Atmosphere`.
+and composition modes (:mod:`planetviz.model.advanced`) derive an :class:`Atmosphere`.
 
 Example
 -------
@@ -16,33 +16,28 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .limits import LIMITS, AtmosphereError, check_choice, check_limit, check_number, check_numbers, fields_of
 from .optics.phase import (double_henyey_greenstein, penndorf_phase, rayleigh_phase)
 from .optics.profiles import ExponentialProfile, TableProfile, TentProfile
 
-#: Allowed ranges, shown in error messages and in the app's widgets.
-LIMITS = {
-    "wavelength_nm": (100.0, 5000.0),
-    "bottom_radius_m": (1.0e4, 1.0e9),
-    "scale_height_m": (1.0, 1.0e7),
-    "coefficient_m": (0.0, 1.0),
-    "g": (-0.999, 0.999),
-    "max_wavelengths": 256,
-    "star_temperature_k": (1000.0, 60000.0),
-}
+__all__ = ["Absorption", "Atmosphere", "FieldReader", "Mie", "Rayleigh", "Star",
+           "from_dict", "parse_json", "to_dict"]
+
+PROFILES = (ExponentialProfile, TentProfile, TableProfile)
+RAYLEIGH_PHASES = ("rayleigh", "penndorf")
+STAR_TYPES = ("sun", "blackbody")
+AIR_MASSES = ("geometric", "pickering")
 
 
-class AtmosphereError(ValueError):
-    """An invalid atmosphere description; ``field`` names the offending entry."""
-
-    def __init__(self, field_name: str, message: str):
-        super().__init__(f"{field_name}: {message}")
-        self.field = field_name
+def _check_profile(profile, name: str):
+    if not isinstance(profile, PROFILES):
+        raise AtmosphereError(name, f"must be one of {', '.join(c.__name__ for c in PROFILES)}, "
+                                    f"got {type(profile).__name__}")
 
 
 @dataclass(frozen=True)
@@ -53,6 +48,11 @@ class Rayleigh:
     profile: object
     phase: str = "rayleigh"
 
+    def __post_init__(self):
+        object.__setattr__(self, "scattering_m", check_numbers(self.scattering_m, "scattering_m", "coefficient_m"))
+        _check_profile(self.profile, "profile")
+        check_choice(self.phase, "phase", RAYLEIGH_PHASES)
+
     def phase_function(self, nu):
         """P_R(nu) [1/sr], the same for every wavelength."""
         return penndorf_phase(nu) if self.phase == "penndorf" else rayleigh_phase(nu)
@@ -60,7 +60,10 @@ class Rayleigh:
 
 @dataclass(frozen=True)
 class Mie:
-    """Particle scattering and extinction with a per-wavelength double Henyey-Greenstein phase."""
+    """Particle scattering and extinction with a per-wavelength double Henyey-Greenstein phase.
+
+    In the files the phase's ``g1``, ``g2`` and ``alpha`` sit in ``mie.phase``; errors name them so. The
+    :class:`Atmosphere` checks that every list has one value per wavelength."""
 
     scattering_m: tuple
     extinction_m: tuple
@@ -68,6 +71,19 @@ class Mie:
     g1: tuple
     g2: tuple
     alpha: tuple
+
+    def __post_init__(self):
+        scat = check_numbers(self.scattering_m, "scattering_m", "coefficient_m")
+        ext = check_numbers(self.extinction_m, "extinction_m", "coefficient_m")
+        for i, (s, e) in enumerate(zip(scat, ext)):
+            if e < s:
+                raise AtmosphereError(f"extinction_m[{i}]", f"{e:g} is below scattering_m[{i}] = {s:g} "
+                                                            "(extinction = scattering + absorption)")
+        _check_profile(self.profile, "profile")
+        for key, limit in (("g1", "g"), ("g2", "g"), ("alpha", "alpha")):
+            object.__setattr__(self, key, check_numbers(getattr(self, key), f"phase.{key}", limit))
+        object.__setattr__(self, "scattering_m", scat)
+        object.__setattr__(self, "extinction_m", ext)
 
     def phase_function(self, nu):
         """P_M(nu) [1/sr], shape ``nu.shape + (W,)``."""
@@ -83,6 +99,10 @@ class Absorption:
     extinction_m: tuple
     profile: object
 
+    def __post_init__(self):
+        object.__setattr__(self, "extinction_m", check_numbers(self.extinction_m, "extinction_m", "coefficient_m"))
+        _check_profile(self.profile, "profile")
+
 
 @dataclass(frozen=True)
 class Star:
@@ -91,10 +111,22 @@ class Star:
     type: str = "sun"
     temperature_k: float | None = None
 
+    def __post_init__(self):
+        check_choice(self.type, "type", STAR_TYPES)
+        if self.type == "blackbody":
+            object.__setattr__(self, "temperature_k",
+                               check_limit(self.temperature_k, "temperature_k", "star_temperature_k"))
+        elif self.temperature_k is not None:
+            raise AtmosphereError("temperature_k", "only a blackbody star has a temperature")
+
 
 @dataclass(frozen=True)
 class Atmosphere:
-    """A planet's atmosphere in standard mode (every length in metres, coefficients in 1/m)."""
+    """A planet's atmosphere in standard mode (every length in metres, coefficients in 1/m).
+
+    Made from Python or from a file (:func:`from_dict`), it checks every field against
+    :data:`~planetviz.model.limits.LIMITS` when it is made: a component when it is made, the atmosphere
+    the fields that tie them together (one value per wavelength everywhere, the top above the ground)."""
 
     name: str
     wavelengths_nm: tuple
@@ -108,8 +140,40 @@ class Atmosphere:
     air_mass: str = "geometric"
 
     def __post_init__(self):
-        # Validate through the dict form so that Python construction and JSON agree.
-        from_dict(to_dict(self))
+        set_ = lambda key, value: object.__setattr__(self, key, value)
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise AtmosphereError("name", "must be a non-empty string")
+        wl = self.wavelengths_nm
+        if not isinstance(wl, (list, tuple, np.ndarray)) or not 1 <= len(wl) <= LIMITS["max_wavelengths"]:
+            raise AtmosphereError("wavelengths_nm", f"must be a list of 1 to {LIMITS['max_wavelengths']} numbers")
+        wl = check_numbers(wl, "wavelengths_nm", "wavelength_nm")
+        if len(set(wl)) != len(wl):
+            raise AtmosphereError("wavelengths_nm", "must not repeat a wavelength")
+        n = len(wl)
+        set_("wavelengths_nm", wl)
+        set_("bottom_radius_m", check_limit(self.bottom_radius_m, "bottom_radius_m", "bottom_radius_m"))
+        set_("top_radius_m", check_number(self.top_radius_m, "top_radius_m", self.bottom_radius_m,
+                                          2.0 * self.bottom_radius_m, lo_open=True))
+        set_("ground_albedo", check_numbers(self.ground_albedo, "ground_albedo", "ground_albedo", n))
+        if not isinstance(self.rayleigh, Rayleigh):
+            raise AtmosphereError("rayleigh", f"must be a Rayleigh, got {type(self.rayleigh).__name__}")
+        if not isinstance(self.mie, Mie):
+            raise AtmosphereError("mie", f"must be a Mie, got {type(self.mie).__name__}")
+        if not isinstance(self.absorption, (list, tuple)) or not all(isinstance(a, Absorption)
+                                                                     for a in self.absorption):
+            raise AtmosphereError("absorption", "must be a list of Absorption layers (possibly empty)")
+        set_("absorption", tuple(self.absorption))
+        per_wavelength = [("rayleigh.scattering_m", self.rayleigh.scattering_m),
+                          ("mie.scattering_m", self.mie.scattering_m), ("mie.extinction_m", self.mie.extinction_m)]
+        per_wavelength += [(f"mie.phase.{key}", getattr(self.mie, key)) for key in ("g1", "g2", "alpha")]
+        per_wavelength += [(f"absorption[{i}].extinction_m", a.extinction_m) for i, a in enumerate(self.absorption)]
+        for name, values in per_wavelength:
+            if len(values) != n:
+                raise AtmosphereError(name, f"has {len(values)} values, expected {n} "
+                                            "(one per entry of wavelengths_nm)")
+        if not isinstance(self.star, Star):
+            raise AtmosphereError("star", f"must be a Star, got {type(self.star).__name__}")
+        check_choice(self.air_mass, "air_mass", AIR_MASSES)
 
     # ----------------------------------------------------------------- derived
     @property
@@ -151,13 +215,6 @@ class Atmosphere:
         h = np.asarray(h, dtype=float)[..., None]
         return (self.rayleigh.profile.density(h) * np.asarray(self.rayleigh.scattering_m),
                 self.mie.profile.density(h) * np.asarray(self.mie.scattering_m))
-
-    def extinction_majorant(self) -> np.ndarray:
-        """An upper bound of beta_ext(h) over the whole shell, per wavelength [1/m]."""
-        total = np.zeros(self.n_wavelengths)
-        for _, ext, profile in self.components():
-            total += ext * profile.max_density(0.0, self.thickness_m)
-        return total
 
     def component_optical_depths(self, n: int = 4001) -> list:
         """Vertical optical depth of each component of :meth:`components` (Simpson's rule, n nodes)."""
@@ -210,8 +267,12 @@ def parse_json(text: str, source: str = "atmosphere file") -> dict:
     return data
 
 
-class _Reader:
-    """Walks a dict, checking types, ranges and unknown/missing keys with dotted field names."""
+class FieldReader:
+    """Walks a dict from a file: missing and unknown keys, with dotted field names (``mie.phase``).
+
+    The ranges are checked by the dataclasses the values go into; the advanced mode
+    (:mod:`planetviz.model.advanced`) also reads its physical quantities with :meth:`number` and
+    :meth:`numbers`."""
 
     def __init__(self, data, path: str, n: int | None = None):
         if not isinstance(data, dict):
@@ -254,140 +315,83 @@ class _Reader:
                      for i, v in enumerate(value))
 
     def string(self, key, choices, optional=False, default=None):
-        value = self.get(key, optional=optional, default=default)
-        if value not in choices:
-            raise AtmosphereError(self.name(key), f"must be one of {', '.join(map(repr, choices))}, "
-                                                  f"got {value!r}")
-        return value
-
-
-def _range_text(lo, hi, lo_open, hi_open):
-    return f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
-
-
-def check_number(value, name, lo, hi, lo_open=False, hi_open=False) -> float:
-    """A finite float within [lo, hi] (open ends where asked), else an AtmosphereError."""
-    allowed = f"allowed range {_range_text(lo, hi, lo_open, hi_open)}"
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise AtmosphereError(name, f"must be a number, got {type(value).__name__} ({allowed})")
-    value = float(value)
-    if not math.isfinite(value):
-        raise AtmosphereError(name, f"must be finite, got {value} ({allowed})")
-    if value < lo or value > hi or (lo_open and value == lo) or (hi_open and value == hi):
-        raise AtmosphereError(name, f"{value:g} is outside the {allowed}")
-    return value
+        return check_choice(self.get(key, optional=optional, default=default), self.name(key), choices)
 
 
 def _profile(data, path: str):
-    r = _Reader(data, path)
+    """A ``profile`` object: its type and that type's fields."""
+    r = FieldReader(data, path)
     kind = r.string("type", ("exponential", "tent", "table"))
-    lo, hi = LIMITS["scale_height_m"]
-    if kind == "exponential":
-        out = ExponentialProfile(r.number("scale_height_m", lo, hi))
-    elif kind == "tent":
-        out = TentProfile(r.number("center_m", -1e7, 1e7),
-                          r.number("half_width_m", 0.0, 1e7, lo_open=True))
-    else:
-        alt = r.get("altitudes_m")
-        den = r.get("densities")
-        if not isinstance(alt, list) or not isinstance(den, list) or len(alt) < 2 or len(alt) != len(den):
-            raise AtmosphereError(f"{path}.altitudes_m",
-                                  "altitudes_m and densities must be lists of equal length >= 2")
-        alt = tuple(check_number(v, f"{path}.altitudes_m[{i}]", -1e7, 1e7) for i, v in enumerate(alt))
-        den = tuple(check_number(v, f"{path}.densities[{i}]", 0.0, 1e30) for i, v in enumerate(den))
-        if any(b <= a for a, b in zip(alt, alt[1:])):
-            raise AtmosphereError(f"{path}.altitudes_m", "must be strictly increasing")
-        out = TableProfile(alt, den)
+    keys = {"exponential": ("scale_height_m",), "tent": ("center_m", "half_width_m"),
+            "table": ("altitudes_m", "densities")}[kind]
+    values = [r.get(key) for key in keys]
     r.done()
-    return out
+    with fields_of(path):
+        return {"exponential": ExponentialProfile, "tent": TentProfile, "table": TableProfile}[kind](*values)
 
 
 def from_dict(data: dict) -> Atmosphere:
-    """Validate a standard-mode dict and build the :class:`Atmosphere` (raises AtmosphereError)."""
-    r = _Reader(data, "")
-    name = r.get("name")
-    if not isinstance(name, str) or not name.strip():
-        raise AtmosphereError("name", "must be a non-empty string")
-    wl = r.get("wavelengths_nm")
-    if not isinstance(wl, list) or not 1 <= len(wl) <= LIMITS["max_wavelengths"]:
-        raise AtmosphereError("wavelengths_nm",
-                              f"must be a list of 1 to {LIMITS['max_wavelengths']} numbers")
-    wl = tuple(check_number(v, f"wavelengths_nm[{i}]", *LIMITS["wavelength_nm"])
-               for i, v in enumerate(wl))
-    if len(set(wl)) != len(wl):
-        raise AtmosphereError("wavelengths_nm", "must not repeat a wavelength")
-    n = len(wl)
-    r.n = n
-    bottom = r.number("bottom_radius_m", *LIMITS["bottom_radius_m"])
-    top = r.number("top_radius_m", bottom, 2.0 * bottom, lo_open=True)
-    albedo = r.numbers("ground_albedo", 0.0, 1.0)
-    rayleigh = _rayleigh(r.get("rayleigh"), n)
-    mie = _mie(r.get("mie"), n)
-    absorption = _absorption(r.get("absorption"), n)
-    star = _star(r.get("star")) if r.has("star") else Star()
-    air_mass = r.string("air_mass", ("geometric", "pickering"), optional=True, default="geometric")
+    """The :class:`Atmosphere` of a standard-mode dict (raises AtmosphereError).
+
+    The dict's structure (objects, missing and unknown keys) is checked here, the values by the dataclasses."""
+    r = FieldReader(data, "")
+    values = {key: r.get(key) for key in ("name", "wavelengths_nm", "bottom_radius_m", "top_radius_m",
+                                          "ground_albedo")}
+    values["rayleigh"] = _rayleigh(r.get("rayleigh"))
+    values["mie"] = _mie(r.get("mie"))
+    values["absorption"] = _absorption(r.get("absorption"))
+    values["star"] = _star(r.get("star")) if r.has("star") else Star()
+    values["air_mass"] = r.get("air_mass", optional=True, default="geometric")
     r.done()
-    atm = object.__new__(Atmosphere)
-    for key, value in dict(name=name, wavelengths_nm=wl, bottom_radius_m=bottom, top_radius_m=top,
-                           ground_albedo=albedo, rayleigh=rayleigh, mie=mie,
-                           absorption=absorption, star=star, air_mass=air_mass).items():
-        object.__setattr__(atm, key, value)
-    return atm
+    return Atmosphere(**values)
 
 
-def _rayleigh(data, n: int) -> Rayleigh:
+def _rayleigh(data) -> Rayleigh:
     """The ``rayleigh`` object: scattering per wavelength, its profile and phase function."""
-    c_lo, c_hi = LIMITS["coefficient_m"]
-    rr = _Reader(data, "rayleigh", n)
-    rayleigh = Rayleigh(rr.numbers("scattering_m", c_lo, c_hi), _profile(rr.get("profile"), "rayleigh.profile"),
-                        rr.string("phase", ("rayleigh", "penndorf")))
+    rr = FieldReader(data, "rayleigh")
+    scattering, profile, phase = rr.get("scattering_m"), _profile(rr.get("profile"), "rayleigh.profile"), \
+        rr.get("phase")
     rr.done()
-    return rayleigh
+    with fields_of("rayleigh"):
+        return Rayleigh(scattering, profile, phase)
 
 
-def _mie(data, n: int) -> Mie:
-    """The ``mie`` object: scattering and extinction per wavelength (extinction >= scattering), its profile and
-    double Henyey-Greenstein phase."""
-    c_lo, c_hi = LIMITS["coefficient_m"]
-    mr = _Reader(data, "mie", n)
-    scat = mr.numbers("scattering_m", c_lo, c_hi)
-    ext = mr.numbers("extinction_m", c_lo, c_hi)
-    for i, (s, e) in enumerate(zip(scat, ext)):
-        if e < s:
-            raise AtmosphereError(f"mie.extinction_m[{i}]",
-                                  f"{e:g} is below mie.scattering_m[{i}] = {s:g} "
-                                  "(extinction = scattering + absorption)")
+def _mie(data) -> Mie:
+    """The ``mie`` object: scattering and extinction per wavelength, its profile and double Henyey-Greenstein
+    phase (``g1``, ``g2``, ``alpha`` in ``mie.phase``)."""
+    mr = FieldReader(data, "mie")
+    scattering, extinction = mr.get("scattering_m"), mr.get("extinction_m")
     profile = _profile(mr.get("profile"), "mie.profile")
-    pr = _Reader(mr.get("phase"), "mie.phase", n)
-    g1 = pr.numbers("g1", *LIMITS["g"])
-    g2 = pr.numbers("g2", *LIMITS["g"])
-    alpha = pr.numbers("alpha", 0.0, 1.0)
+    pr = FieldReader(mr.get("phase"), "mie.phase")
+    g1, g2, alpha = pr.get("g1"), pr.get("g2"), pr.get("alpha")
     pr.done()
     mr.done()
-    return Mie(scat, ext, profile, g1, g2, alpha)
+    with fields_of("mie"):
+        return Mie(scattering, extinction, profile, g1, g2, alpha)
 
 
-def _absorption(layers, n: int) -> tuple:
+def _absorption(layers) -> tuple:
     """The ``absorption`` list: absorbing layers, each an extinction per wavelength and a profile."""
     if not isinstance(layers, list):
         raise AtmosphereError("absorption", "must be a list of layers (possibly empty)")
-    c_lo, c_hi = LIMITS["coefficient_m"]
     out = []
     for i, layer in enumerate(layers):
-        ar = _Reader(layer, f"absorption[{i}]", n)
-        out.append(Absorption(ar.numbers("extinction_m", c_lo, c_hi),
-                              _profile(ar.get("profile"), f"absorption[{i}].profile")))
+        ar = FieldReader(layer, f"absorption[{i}]")
+        extinction, profile = ar.get("extinction_m"), _profile(ar.get("profile"), f"absorption[{i}].profile")
         ar.done()
+        with fields_of(f"absorption[{i}]"):
+            out.append(Absorption(extinction, profile))
     return tuple(out)
 
 
 def _star(data) -> Star:
     """The ``star`` object: the sun, or a black body of a temperature."""
-    sr = _Reader(data, "star")
-    kind = sr.string("type", ("sun", "blackbody"))
-    temp = sr.number("temperature_k", *LIMITS["star_temperature_k"]) if kind == "blackbody" else None
+    sr = FieldReader(data, "star")
+    kind = sr.get("type")
+    temperature = sr.get("temperature_k") if kind == "blackbody" else None
     sr.done()
-    return Star(kind, temp)
+    with fields_of("star"):
+        return Star(kind, temperature)
 
 
 def to_dict(atm: Atmosphere) -> dict:

@@ -5,7 +5,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..resources import read_data_csv
+from ...resources import read_data_csv
 
 DOBSON_UNIT = 2.6867e20  # molecules/m^2
 

@@ -8,6 +8,8 @@ A coefficient beta(h) [1/m] of a component is ``beta_0 * profile.density(h)`` wi
 * ``table``: rho(h) from tabulated (altitude, density) pairs, interpolated by a
   monotone piecewise cubic (Fritsch-Carlson / PCHIP, no overshoot), held at the
   end values outside the table; used for the US Standard Atmosphere ozone (Sect. 4.2.2).
+
+Each profile checks its fields against :data:`planetviz.model.limits.LIMITS` when it is made.
 """
 from __future__ import annotations
 
@@ -15,12 +17,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..limits import AtmosphereError, check_limit, check_numbers
+
 
 @dataclass(frozen=True)
 class ExponentialProfile:
     """rho(h) = exp(-h / H), H = ``scale_height_m`` [m]."""
 
     scale_height_m: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "scale_height_m", check_limit(self.scale_height_m, "scale_height_m",
+                                                               "scale_height_m"))
 
     def density(self, h):
         return np.exp(-np.asarray(h, dtype=float) / self.scale_height_m)
@@ -39,6 +47,10 @@ class TentProfile:
 
     center_m: float
     half_width_m: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "center_m", check_limit(self.center_m, "center_m", "profile_altitude_m"))
+        object.__setattr__(self, "half_width_m", check_limit(self.half_width_m, "half_width_m", "half_width_m"))
 
     def density(self, h):
         h = np.asarray(h, dtype=float)
@@ -60,6 +72,14 @@ class TableProfile:
     densities: tuple
 
     def __post_init__(self):
+        altitudes = check_numbers(self.altitudes_m, "altitudes_m", "profile_altitude_m")
+        densities = check_numbers(self.densities, "densities", "density", n=None)
+        if len(altitudes) < 2 or len(altitudes) != len(densities):
+            raise AtmosphereError("altitudes_m", "altitudes_m and densities must be lists of equal length >= 2")
+        if any(b <= a for a, b in zip(altitudes, altitudes[1:])):
+            raise AtmosphereError("altitudes_m", "must be strictly increasing")
+        object.__setattr__(self, "altitudes_m", altitudes)
+        object.__setattr__(self, "densities", densities)
         from scipy.interpolate import PchipInterpolator     # here, so the renderer imports without SciPy
         interp = PchipInterpolator(np.asarray(self.altitudes_m, float),
                                    np.asarray(self.densities, float), extrapolate=False)

@@ -21,14 +21,16 @@ import time
 
 import numpy as np
 
-from .atmosphere import LIMITS, AtmosphereError
-from .geometry import EYE_HEIGHT_M
-from .optics.mie import TURBIDITY_JUNGE, TURBIDITY_K, mie_scattering_turbidity, turbidity_from_scattering
-from .presets import PRESETS, load_atmosphere, load_dict
-from .render.scene import flight_path
+from ..model.limits import LIMITS, AtmosphereError
+from ..model.geometry import EYE_HEIGHT_M
+from ..model.optics.mie import TURBIDITY_JUNGE, TURBIDITY_K, mie_scattering_turbidity, turbidity_from_scattering
+from ..model.presets import PRESETS, load_atmosphere, load_dict
+from ..render.scene import flight_path
 
 PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
 QUALITIES = ("draft", "standard", "high")
+#: The site the window looks at and sees the sun from: latitude, longitude [deg].
+SITE = (30.0, 0.0)
 
 
 def _scaled(values, factor):
@@ -36,7 +38,7 @@ def _scaled(values, factor):
 
 
 def turbidity_of(d, b):
-    """The turbidity of the dict ``d`` (:func:`~planetviz.optics.mie.turbidity_from_scattering`)."""
+    """The turbidity of the dict ``d`` (:func:`~planetviz.model.optics.mie.turbidity_from_scattering`)."""
     return turbidity_from_scattering(np.asarray(d["wavelengths_nm"]) * 1e-9, d["mie"]["scattering_m"])
 
 
@@ -93,7 +95,7 @@ class PlanetApp:
         self._shots = 0
         self._status = scene.add_text("", position="lower_left", font_size=9, name="status")
         self._alert = scene.add_text("", position="upper_edge", font_size=10, color="orange", name="message")
-        self._sun = (30.0, 135.0)
+        scene.set_sun(latitude=SITE[0], longitude=SITE[1])
         self._building = False
         self._add_sliders()
         for key, preset in PRESET_KEYS.items():
@@ -119,10 +121,10 @@ class PlanetApp:
         self.sliders = {}
         style = dict(style="modern", title_height=0.018, fmt="%.3g", tube_width=0.004, slider_width=0.012)
         self.sliders["sun elevation [deg]"] = s.add_slider_widget(
-            lambda v: self.set_sun(elevation=v), (-20.0, 90.0), value=30.0, title="sun elevation [deg]",
+            lambda v: self.set_sun(elevation=v), (-20.0, 90.0), value=s.sun.elevation, title="sun elevation [deg]",
             pointa=(0.03, 0.93), pointb=(0.30, 0.93), **style)
         self.sliders["sun azimuth [deg]"] = s.add_slider_widget(
-            lambda v: self.set_sun(azimuth=v), (0.0, 360.0), value=135.0, title="sun azimuth [deg]",
+            lambda v: self.set_sun(azimuth=v), (0.0, 360.0), value=s.sun.azimuth % 360.0, title="sun azimuth [deg]",
             pointa=(0.03, 0.83), pointb=(0.30, 0.83), **style)
         self.sliders["exposure log10 [m2/cd]"] = s.add_slider_widget(
             lambda v: self.set_exposure(10.0 ** v), (-6.0, 0.0), value=float(np.log10(s.settings.exposure)),
@@ -216,20 +218,18 @@ class PlanetApp:
         return True
 
     def set_sun(self, elevation=None, azimuth=None):
-        """Move the sun (degrees, seen from the site below the camera); an invalid angle is refused with a
-        message and the sun stays where it was."""
+        """Move the sun (degrees, seen from the window's site); an invalid angle is refused with a message and
+        the sun stays where it was."""
         if self._building:
             return None
-        el, az = self._sun
-        sun = (el if elevation is None else float(elevation), az if azimuth is None else float(azimuth))
         try:
-            self.scene.set_sun(*sun)
+            self.scene.set_sun(elevation=elevation, azimuth=azimuth)
         except ValueError as exc:
             self.show_message(f"refused: {exc}")
             self.refresh()
             return False
-        self._sun = sun
-        for name, value in zip(("sun elevation [deg]", "sun azimuth [deg]"), self._sun):
+        sun = self.scene.sun
+        for name, value in (("sun elevation [deg]", sun.elevation), ("sun azimuth [deg]", sun.azimuth % 360.0)):
             if name in self.sliders:                  # keep the sliders in step when set from code or keys
                 self.sliders[name].GetRepresentation().SetValue(value)
         self.refresh()
@@ -249,16 +249,17 @@ class PlanetApp:
         return True
 
     def camera_preset(self, name):
-        s, lat = self.scene, 30.0
+        """Look at the window's site from orbit, or from 400 km (the limb), 10 km or eye height toward the sun."""
+        s, (lat, lon), heading = self.scene, SITE, self.scene.sun.azimuth
         if name == "orbit":
-            s.view_from_space(latitude=lat, longitude=0.0)
+            s.view_from_space(latitude=lat, longitude=lon)
         elif name == "limb":
-            s.view_from_ground(latitude=lat, altitude=4e5, heading=self._sun[1], pitch=-17.0, fov=40.0)
+            s.view_from_ground(latitude=lat, longitude=lon, altitude=4e5, heading=heading, pitch=-17.0, fov=40.0)
         elif name == "aircraft":
-            s.view_from_ground(latitude=lat, altitude=1e4, heading=self._sun[1], pitch=0.0, fov=60.0)
+            s.view_from_ground(latitude=lat, longitude=lon, altitude=1e4, heading=heading, pitch=0.0, fov=60.0)
         else:
-            s.view_from_ground(latitude=lat, altitude=EYE_HEIGHT_M, heading=self._sun[1], pitch=5.0, fov=60.0)
-        s.set_sun(*self._sun)
+            s.view_from_ground(latitude=lat, longitude=lon, altitude=EYE_HEIGHT_M, heading=heading, pitch=5.0,
+                               fov=60.0)
         self.refresh()
 
     def fly(self, frames=60):
@@ -267,8 +268,8 @@ class PlanetApp:
         down = r > 1e5
         path = flight_path(self.scene.atmosphere.bottom_radius_m, frames)
         for alt, pitch in path if down else path[::-1]:
-            self.scene.view_from_ground(latitude=30.0, altitude=alt, heading=self._sun[1], pitch=pitch)
-            self.scene.set_sun(*self._sun)
+            self.scene.view_from_ground(latitude=SITE[0], longitude=SITE[1], altitude=alt,
+                                        heading=self.scene.sun.azimuth, pitch=pitch)
             self.refresh()
 
     def cycle_quality(self):
@@ -294,7 +295,7 @@ class PlanetApp:
         try:
             with open(self._file) as f:
                 text = f.read()
-            from .atmosphere import parse_json
+            from ..model.atmosphere import parse_json
             source = parse_json(text, source=str(self._file))
             atm = load_dict(source)
         except (AtmosphereError, ValueError, OSError) as exc:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .presets import PRESETS
+from ..model.presets import PRESETS
 
 
 def _size(text):
@@ -113,14 +113,15 @@ def _frame(scene, args, i=None):
 def run_render(args) -> int:
     """Render what ``args`` asks for, off-screen."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    from .render import Scene
+    from ..render import Scene
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
                   off_screen=True, method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
                   quick_terms=args.terms)
     try:
         set_view(scene, args)
-        scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth)
+        scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth, latitude=args.latitude,
+                      longitude=args.longitude)
         if args.sweep_sun:
             start, stop, step = args.sweep_sun
             if step == 0 or (stop - start) / step < 0:
@@ -128,18 +129,16 @@ def run_render(args) -> int:
             elevations = np.arange(start, stop + 0.5 * step, step)
             bar = _Bar(len(elevations), "sun sweep")
             for i, el in enumerate(elevations):
-                scene.set_sun(elevation=float(el), azimuth=args.sun_azimuth)
+                scene.set_sun(elevation=float(el))
                 _frame(scene, args, i)
                 bar(i + 1)
         elif args.flight:
-            from .render.scene import flight_path
+            from ..render.scene import flight_path
             path = flight_path(scene.atmosphere.bottom_radius_m, args.flight, level_pitch=args.pitch)
             bar = _Bar(len(path), "flight")
             for i, (alt, pitch) in enumerate(path):
                 scene.view_from_ground(latitude=args.latitude, longitude=args.longitude, altitude=alt,
                                        heading=args.heading, pitch=pitch, fov=args.fov or 60.0)
-                scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth,
-                              latitude=args.latitude, longitude=args.longitude)
                 _frame(scene, args, i)
                 bar(i + 1)
         else:
@@ -152,11 +151,11 @@ def run_render(args) -> int:
 
 
 def _sky_images(scene, args):
-    from .color import display_colour, linear_srgb
-    from .panorama import equirectangular_directions, fisheye_directions, render_directions
-    from .render.hdr import write_exr
-    from .render.surface import write_image
-    from .tables import QUALITY, TableCache, precompute
+    from ..model.color import display_colour, linear_srgb
+    from ..tables.panorama import equirectangular_directions, fisheye_directions, render_directions
+    from ..render.hdr import write_exr
+    from ..render.surface import write_image
+    from ..tables import QUALITY, TableCache, precompute
     atm = scene.atmosphere
     tables = scene.planet.tables if scene.planet is not None else \
         precompute(atm, QUALITY[args.quality], cache=TableCache())        # the quick view has none
@@ -171,7 +170,7 @@ def _sky_images(scene, args):
         radiance = render_directions(tables, atm, cam, dirs, scene.sun_direction)
         rgb = linear_srgb(radiance, atm)
         if str(path).lower().endswith(".exr"):
-            from .optics.light import star_irradiance
+            from ..model.optics.light import star_irradiance
             write_exr(path, rgb, radiance * star_irradiance(atm.star, atm.wavelengths_nm), atm.wavelengths_nm,
                       {"atmosphere": atm.name, "camera_position_m": list(map(float, cam)),
                        "sun_direction": list(map(float, scene.sun_direction)),

@@ -4,7 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .atmosphere import Atmosphere, AtmosphereError, from_dict, parse_json
-from .resources import asset_dir
+from ..resources import asset_dir
 
 PRESET_DIR = asset_dir("atmospheres")
 
@@ -15,7 +15,7 @@ PRESETS = {p.stem: p for p in sorted(PRESET_DIR.glob("*.json"))}
 def load_dict(data: dict) -> Atmosphere:
     """An Atmosphere from a standard- or advanced-mode dict."""
     if data.get("mode") == "advanced":
-        from .physical import derive
+        from .advanced import derive
         return derive(data)
     return from_dict(data)
 

@@ -90,7 +90,7 @@ def site_queries(bottom_radius_m: float, latitude: float = 0.0, longitude: float
 
     Example
     -------
-    >>> from planetviz.queries import site_queries
+    >>> from planetviz.model.queries import site_queries
     >>> q = site_queries(6360e3, elevations=(90, 10), azimuths=(0, 180))
     >>> q.camera_m.shape
     (3, 3)
