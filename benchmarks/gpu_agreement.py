@@ -14,7 +14,6 @@ rays that see the atmosphere (radiance above 1e-6 of the case's largest), and th
 ray-wavelengths above 1e-3 of it.
 """
 import argparse
-import json
 import sys
 from pathlib import Path
 

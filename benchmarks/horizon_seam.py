@@ -2,7 +2,7 @@
 
     python benchmarks/horizon_seam.py [--quality standard] [--altitudes 300 1000 ...]
 
-The seam test (tests/test_stability.py) compares the tables' single scattering on 9 rays 1e-6 to 1e-2 (in mu)
+The seam test (tests/test_stability_horizon.py) compares the tables' single scattering on 9 rays 1e-6 to 1e-2 (in mu)
 either side of the horizon with the same error on rays at least 0.05 away, 5 azimuths x 3 suns. Its 9 offsets
 may miss the middle of a texel interval, where interpolation errs most. Here: 46 offsets from 1e-6 to 3e-2
 above the horizon, the sun 5 and 20 deg up, toward it and away from it, against the reference quadrature
@@ -11,33 +11,23 @@ above the horizon, the sun 5 and 20 deg up, toward it and away from it, against 
 allows 1.25). Takes about a minute per altitude (the reference quadrature).
 """
 import argparse
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from planetviz import load_atmosphere
+from planetviz.tables import QUALITY, precompute
+from planetviz.validation.single_scattering import altitude_rays, reference_single_scattering, single_scattering_error
 
-from planetviz.reference.single import single_scattering  # noqa: E402
-from planetviz.tables import QUALITY, precompute  # noqa: E402
-from planetviz.tables.evaluator import sky_radiance  # noqa: E402
-from test_stability_horizon import EARTH, R, _single_scattering_error, single_scattering_only  # noqa: E402
-
+EARTH = load_atmosphere("earth")
+R = EARTH.bottom_radius_m
 OFFSETS = np.logspace(-6, -1.5, 46)
 
 
-def dense_error(tables, alt):
-    """(offsets, per-ray largest relative error over the wavelengths) of the single scattering on the dense rays."""
-    mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
-    mu, az, el = (a.ravel() for a in np.meshgrid(mu_h + OFFSETS, np.radians([0, 180]), np.radians([5, 20]),
-                                                 indexing="ij"))
-    views = np.stack([np.sqrt(1 - mu ** 2) * np.cos(az), np.sqrt(1 - mu ** 2) * np.sin(az), mu], 1)
-    suns = np.stack([np.cos(el), 0 * el, np.sin(el)], 1)
-    cams = np.tile([0.0, 0.0, R + alt], (len(mu), 1))
-    scatter, ground = single_scattering(EARTH, cams, views, suns)
-    got, _ = sky_radiance(single_scattering_only(tables), EARTH, cams, views, suns)
-    want = scatter + ground
-    return np.repeat(OFFSETS, 4), np.max(np.abs(got - want) / want, axis=1)
+def error(tables, alt, mus, sun_elevations_deg=(5, 20, 60), azimuths_deg=(0, 45, 90, 135, 180)):
+    """Per ray, the largest relative error over the wavelengths of the tables' single scattering."""
+    cams, views, suns = altitude_rays(EARTH, alt, mus, sun_elevations_deg, azimuths_deg)
+    return single_scattering_error(tables, EARTH, cams, views, suns,
+                                   reference_single_scattering(EARTH, cams, views, suns))
 
 
 def main():
@@ -51,9 +41,10 @@ def main():
     print("|---|---|---|---|---|---|")
     for alt in args.altitudes:
         mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
-        away = _single_scattering_error(alt, np.concatenate([np.linspace(-1, mu_h - 0.05, 12),
-                                                             np.linspace(mu_h + 0.05, 1, 12)]), tables).max()
-        offsets, err = dense_error(tables, alt)
+        away = error(tables, alt, np.concatenate([np.linspace(-1, mu_h - 0.05, 12),
+                                                  np.linspace(mu_h + 0.05, 1, 12)])).max()
+        offsets = np.repeat(OFFSETS, 4)
+        err = error(tables, alt, mu_h + OFFSETS, (5, 20), (0, 180))
         near, far = err[offsets <= 1e-2], err[offsets > 1e-2]
         at = offsets[offsets <= 1e-2][np.argmax(near)]
         print(f"| {alt:g} | {100 * near.max():.2f}% | {at:.1e} | {100 * far.max():.2f}% | {100 * away:.2f}% | "

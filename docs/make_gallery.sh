@@ -11,8 +11,8 @@ r --atmosphere earth --view ground --altitude 4e5 --latitude 30 --heading 180 --
 r --atmosphere earth --view ground --latitude 45 --heading 0 --pitch 25 --fov 90 --sun-elevation 60 --sun-azimuth 180 --screenshot $out/earth-ground-noon.png
 r --atmosphere earth --view ground --latitude 45 --heading 270 --pitch 6 --fov 70 --sun-elevation 1 --sun-azimuth 270 --screenshot $out/earth-ground-sunset.png
 r --atmosphere earth --view ground --latitude 45 --heading 270 --pitch 10 --fov 90 --sun-elevation -5 --sun-azimuth 270 --exposure 3e-3 --screenshot $out/earth-ground-twilight.png
-r --atmosphere mars --view space --latitude -10 --longitude 0 --sun-elevation 40 --sun-azimuth 100 --screenshot $out/mars-orbit.png
-r --atmosphere mars --view ground --heading 270 --pitch 6 --fov 70 --sun-elevation 3 --sun-azimuth 270 --exposure 2e-4 --screenshot $out/mars-ground-sunset.png
+r --atmosphere mars --view space --latitude -10 --longitude 0 --sun-elevation 40 --sun-azimuth 100 --exposure 2.3e-4 --screenshot $out/mars-orbit.png
+r --atmosphere mars --view ground --heading 270 --pitch 6 --fov 70 --sun-elevation 3 --sun-azimuth 270 --exposure 4.6e-4 --screenshot $out/mars-ground-sunset.png
 r --atmosphere exo-co2-thick --view ground --heading 180 --pitch 20 --fov 90 --sun-elevation 40 --sun-azimuth 180 --screenshot $out/exo-co2-thick-ground.png
 r --atmosphere exo-mdwarf --view space --latitude 0 --longitude 0 --sun-elevation 10 --sun-azimuth 90 --screenshot $out/exo-mdwarf-orbit.png
 r --method quick --samples 6 --view ground --heading 270 --pitch 6 --fov 70 --sun-elevation 1 --sun-azimuth 270 --screenshot $out/earth-quick-sunset.png

@@ -1,7 +1,7 @@
 // The in-scattered radiance of one ray from the tables and the quadratures (after horizon.glsl): the GLSL twin of
-// planetviz/tables/evaluator.py's _phased. No uniforms of its own.
+// planetviz/tables/evaluator.py's phased_scattering. No uniforms of its own.
 
-// In-scattered radiance of group g (the evaluator's _phased): single scattering with its phases, from the tables
+// In-scattered radiance of group g (the evaluator's phased_scattering): single scattering with its phases, from the tables
 // or, for ground rays from near the ground, near_ground_single_scattering, and next to the horizon blended with
 // horizon_single_scattering; plus multiple scattering with its tables' ground_row_factor.
 vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {

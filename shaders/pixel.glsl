@@ -6,7 +6,8 @@
 //   camera_right           vec3   right vector scaled by tan(horizontal half field of view)
 //   camera_up              vec3   up vector scaled by tan(vertical half field of view)
 //   viewport               vec4   viewport origin and size in pixels (x0, y0, width, height)
-//   sun_cos_radius         float  cos of the sun's angular radius (the disc: nu > sun_cos_radius)
+//   sun_cos_radius         float  cos of the star disc's angular radius seen from the planet (Star.angular_radius_deg;
+//                                 the disc: nu > sun_cos_radius)
 //   sun_solid_angle        float  solid angle of the disc [sr]: its radiance is T / sun_solid_angle per unit irradiance
 //   show_sun               int    1: draw the sun disc
 //   surface_faces          sampler2DArray  the planet's surface colour on the six faces of a cube, one layer each

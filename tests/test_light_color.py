@@ -5,6 +5,7 @@ import pytest
 from planetviz import load_atmosphere
 from planetviz.model.atmosphere import Star
 from planetviz.model.color import radiance_to_xyz, xyz_matrix
+from planetviz.model.atmosphere import AtmosphereError, from_dict
 from planetviz.model.optics.light import SOLAR_CONSTANT, solar_spectrum, star_irradiance
 
 
@@ -14,6 +15,41 @@ def test_blackbody_star_delivers_the_solar_constant():
     wl = np.geomspace(10.0, 1e6, 400001)
     e = star_irradiance(Star("blackbody", 3200.0), wl)
     assert np.trapezoid(e, wl) == pytest.approx(SOLAR_CONSTANT, rel=1e-4)
+
+
+def test_a_star_scales_its_spectrum_to_its_irradiance():
+    # The Sun at Mars (586.2 W/m^2) is the same spectrum times 586.2 / 1361; a blackbody integrates to its own
+    # irradiance (the Planck tails as in the test above, < 1e-6).
+    wl = np.geomspace(10.0, 1e6, 400001)
+    assert np.trapezoid(star_irradiance(Star("blackbody", 5000.0, 500.0), wl), wl) == pytest.approx(500.0, rel=1e-4)
+    sun, mars = star_irradiance(Star(), [440.0, 550.0]), star_irradiance(Star(irradiance_w_m2=586.2), [440.0, 550.0])
+    assert np.allclose(mars / sun, 586.2 / SOLAR_CONSTANT, rtol=1e-12)
+
+
+def test_the_star_disc_follows_from_the_star_and_its_irradiance():
+    # The Sun from Earth: the IAU nominal radius over 1 AU, 959.2 arcsec (the apparent mean semi-diameter the
+    # almanacs give, 959.63", to 0.05%). A blackbody at the Sun's effective temperature (5772 K, IAU 2015)
+    # giving the solar constant must look as large as the Sun (E = sigma T^4 (R/d)^2 holds for the nominal
+    # values to 0.02%). The Sun from Mars (1.5237 AU) is smaller by that distance (its sine is; the angle to
+    # theta^2 / 6 = 4e-6); a 3200 K star giving Earth's irradiance is larger, by (5772 / 3200)^2 = sqrt(sigma
+    # 5772^4 / sigma 3200^4) (its sine; the angle to 1e-4 at 0.87 deg).
+    earth = Star().angular_radius_deg()
+    assert earth * 3600 == pytest.approx(959.63, rel=5e-4)
+    assert Star("blackbody", 5772.0).angular_radius_deg() == pytest.approx(earth, rel=2e-4)
+    assert Star(irradiance_w_m2=SOLAR_CONSTANT / 1.5237 ** 2).angular_radius_deg() == pytest.approx(earth / 1.5237,
+                                                                                                   rel=1e-5)
+    assert load_atmosphere("exo-mdwarf").star.angular_radius_deg() == pytest.approx(earth * (5772 / 3200) ** 2,
+                                                                                    rel=5e-4)
+
+
+def test_a_star_too_bright_for_its_disc_is_refused_naming_the_field():
+    d = load_atmosphere("earth").to_dict()
+    d["star"] = {"type": "blackbody", "temperature_k": 1000.0, "irradiance_w_m2": 1e5}   # sigma T^4 = 5.7e4
+    with pytest.raises(AtmosphereError) as info:
+        from_dict(d)
+    assert info.value.field == "star.irradiance_w_m2" and "at most" in str(info.value)
+    d["star"] = {"type": "sun", "irradiance_w_m2": 586.2}
+    assert from_dict(d).star.irradiance_w_m2 == 586.2 and from_dict(d).to_dict()["star"] == d["star"]
 
 
 def test_shipped_solar_spectrum_is_astm_g173():

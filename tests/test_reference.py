@@ -211,12 +211,12 @@ def _ratio_tracking_transmittance(atm, w, p, d, length, paths, rng):
 
 def test_free_flight_optical_depth_against_ratio_tracking():
     # The solver's free flights are weighted with exp(-tau) from its segment tables plus the Gauss-Legendre
-    # part up to the sampled point (montecarlo._point). Against ratio tracking, an unbiased estimator with
+    # part up to the sampled point (montecarlo.collision_point). Against ratio tracking, an unbiased estimator with
     # no quadrature, on long grazing segments of the 10-bar planet at 440 nm: the horizontal view 50 m below the
     # top (tau 4e-5), limb rays from space with tangent altitudes in the upper half (tau 0.4 to 4.6), each whole
     # and stopped at 18.5% of its length (the sampled point's exact tau).
     # Bound: 4.5 standard errors of the ratio-tracking estimate (a false alarm ~1e-5 per comparison).
-    from planetviz.reference.montecarlo import _point, segment_optical_depth
+    from planetviz.reference.montecarlo import collision_point, segment_optical_depth
     from planetviz.model.geometry import distance_to_top_exit
     atm = load_atmosphere("exo-co2-thick")
     rg, rt = atm.bottom_radius_m, atm.top_radius_m
@@ -235,7 +235,7 @@ def test_free_flight_optical_depth_against_ratio_tracking():
             if share == 1.0:
                 tau_solver = tau[0, -1]
             else:
-                tau_solver = _point(atm, w, p[None], d[None], nodes, tau, 0.5 * stop)[3][0]
+                tau_solver = collision_point(atm, w, p[None], d[None], nodes, tau, 0.5 * stop)[3][0]
                 stop = 0.5 * stop
             mean, err = _ratio_tracking_transmittance(atm, w, p, d, float(stop[0]), 1_000_000, rng)
             assert mean > 0.005 and err < 0.01 * mean, (mean, err)

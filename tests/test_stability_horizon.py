@@ -5,16 +5,16 @@ continuity where the quadratures hand over, the planet's shadow on a ray. docs/s
 import functools
 import importlib
 import warnings
-from dataclasses import replace
 
 import numpy as np
 import pytest
 from conftest import draft_earth_tables
 
 from planetviz import load_atmosphere
-from planetviz.reference.single import single_scattering
 from planetviz.tables import QUALITY, precompute
 from planetviz.tables.evaluator import sky_radiance
+from planetviz.validation.single_scattering import (altitude_rays, reference_single_scattering,
+                                                   single_scattering_error, single_scattering_only)
 
 EARTH = load_atmosphere("earth")
 R = EARTH.bottom_radius_m
@@ -25,30 +25,16 @@ TABLES = draft_earth_tables()
 def _seam_rays(alt, mus, sun_deg=(5, 20, 60)):
     """Cameras, views and suns from altitude ``alt`` at the view cosines ``mus`` (a tuple), 5 azimuths and the
     sun at the elevations ``sun_deg``, and the reference quadrature's single scattering plus directly lit ground
-    along them (reference/single.py; computed once per set, the slow part)."""
-    mu, az, el = (a.ravel() for a in np.meshgrid(np.array(mus), np.radians([0, 45, 90, 135, 180]),
-                                                 np.radians(sun_deg), indexing="ij"))
-    views = np.stack([np.sqrt(1 - mu ** 2) * np.cos(az), np.sqrt(1 - mu ** 2) * np.sin(az), mu], 1)
-    suns = np.stack([np.cos(el), np.zeros_like(el), np.sin(el)], 1)
-    cams = np.tile([0.0, 0.0, R + alt], (len(mu), 1))
-    scatter, ground = single_scattering(EARTH, cams, views, suns)
-    return cams, views, suns, scatter + ground
-
-
-def single_scattering_only(tables):
-    """``tables`` with the multiple-scattering and sky-irradiance tables set to 0: what they read is their single
-    scattering and directly lit ground, the part reference/single.py computes."""
-    return replace(tables, multiple=np.zeros_like(tables.multiple), multiple_mie=np.zeros_like(tables.multiple_mie),
-                   irradiance=np.zeros_like(tables.irradiance))
+    along them (computed once per set, the slow part)."""
+    cams, views, suns = altitude_rays(EARTH, alt, mus, sun_deg)
+    return cams, views, suns, reference_single_scattering(EARTH, cams, views, suns)
 
 
 def _single_scattering_error(alt, mus, tables=None):
-    """Per ray, the largest relative error over the wavelengths of the tables' (default: the draft ``TABLES``)
-    single scattering and directly lit ground (the multiple-scattering and sky-irradiance tables set to 0)
-    against the deterministic quadrature of reference/single.py (``_seam_rays``)."""
+    """Per ray, the largest relative error of the tables' (default: the draft ``TABLES``) single scattering and
+    directly lit ground against the reference quadrature (``_seam_rays``)."""
     cams, views, suns, want = _seam_rays(alt, tuple(np.asarray(mus).tolist()))
-    got, _ = sky_radiance(single_scattering_only(TABLES if tables is None else tables), EARTH, cams, views, suns)
-    return np.max(np.abs(got - want) / want, axis=1)
+    return single_scattering_error(TABLES if tables is None else tables, EARTH, cams, views, suns, want)
 
 
 @pytest.mark.parametrize("quality, alt, bound", [("draft", alt, 0.015) for alt in (1e-3, 2.0, 100.0, 500.0, 1e3, 3e3, 6e3)]

@@ -173,12 +173,12 @@ def test_short_ground_rays_scatter_in_proportion_to_their_length(preset):
     # above the ground is 1.2 km up, draft). Measured spread of S / d: 0.12% (Earth), 0.9% (thick); without
     # the factor (and the single-scattering table read alike, before near_ground.py) the ground row made S grow
     # as sqrt(d) and S / d spread 10x. Bound 3%.
-    from planetviz.tables.evaluator import _phased
+    from planetviz.tables.evaluator import phased_scattering
     atm = load_atmosphere(preset)
     tables = precompute(atm, QUALITY["draft"])
     alts = np.array([0.2, 2.0, 20.0])
     mu = -np.cos(np.radians(20.0))
-    s = _phased(tables, atm, atm.bottom_radius_m + alts, np.full(3, mu), np.full(3, 0.5), np.full(3, -0.3),
+    s = phased_scattering(tables, atm, atm.bottom_radius_m + alts, np.full(3, mu), np.full(3, 0.5), np.full(3, -0.3),
                 np.ones(3, bool))
     per_metre = s / (alts / -mu)[:, None]
     assert np.all(per_metre.max(0) / per_metre.min(0) < 1.03)

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.geometry import EYE_HEIGHT_M
 from ..model.presets import PRESETS
 
 
@@ -39,7 +40,7 @@ def add_render_options(p):
     p.add_argument("--latitude", type=float, default=0.0, help="site below the camera [deg]")
     p.add_argument("--longitude", type=float, default=0.0, help="[deg]")
     p.add_argument("--distance", type=float, default=None, help="space: from the planet centre [m]")
-    p.add_argument("--altitude", type=float, default=2.0, help="ground: above the ground [m]")
+    p.add_argument("--altitude", type=float, default=EYE_HEIGHT_M, help="ground: above the ground [m]")
     p.add_argument("--heading", type=float, default=0.0, help="ground: view azimuth from north [deg]")
     p.add_argument("--pitch", type=float, default=10.0, help="ground: view above the horizontal [deg]")
     p.add_argument("--fov", type=float, default=None, help="vertical field of view [deg]")

@@ -23,6 +23,7 @@ import numpy as np
 
 from .limits import LIMITS, AtmosphereError, check_choice, check_limit, check_number, check_numbers, fields_of
 from .optics.phase import (double_henyey_greenstein, penndorf_phase, rayleigh_phase)
+from .optics.light import SOLAR_CONSTANT, star_angular_radius, star_irradiance_at_radius
 from .optics.profiles import ExponentialProfile, TableProfile, TentProfile
 
 __all__ = ["Absorption", "Atmosphere", "FieldReader", "Mie", "Rayleigh", "Star",
@@ -106,10 +107,14 @@ class Absorption:
 
 @dataclass(frozen=True)
 class Star:
-    """The light source: ``sun`` (ASTM G-173 extraterrestrial) or a ``blackbody`` of a temperature."""
+    """The light source: ``sun`` (ASTM G-173 extraterrestrial) or a ``blackbody`` of a temperature, and its
+    bolometric irradiance at the top of the atmosphere [W/m^2] (default: the solar constant, Earth's). The
+    irradiance sets the spectrum's scale and, with the star's type and temperature, the angular size of its disc
+    (:meth:`angular_radius_deg`), which must stay within LIMITS["star_angular_radius_deg"]."""
 
     type: str = "sun"
     temperature_k: float | None = None
+    irradiance_w_m2: float = SOLAR_CONSTANT
 
     def __post_init__(self):
         check_choice(self.type, "type", STAR_TYPES)
@@ -118,6 +123,17 @@ class Star:
                                check_limit(self.temperature_k, "temperature_k", "star_temperature_k"))
         elif self.temperature_k is not None:
             raise AtmosphereError("temperature_k", "only a blackbody star has a temperature")
+        irradiance = check_limit(self.irradiance_w_m2, "irradiance_w_m2", "star_irradiance_w_m2")
+        object.__setattr__(self, "irradiance_w_m2", irradiance)
+        hi = LIMITS["star_angular_radius_deg"][1]
+        if not self.angular_radius_deg() <= hi:           # NaN (no disc can give that much) fails too
+            most = star_irradiance_at_radius(self.type, self.temperature_k, np.radians(hi))
+            raise AtmosphereError("irradiance_w_m2", f"{irradiance:g} W/m^2 would need a disc over {hi:g} deg in "
+                                                     f"radius; this star gives at most {most:.4g} W/m^2")
+
+    def angular_radius_deg(self) -> float:
+        """Angular radius of the star's disc seen from the planet [deg] (:func:`star_angular_radius`)."""
+        return float(np.degrees(star_angular_radius(self.type, self.temperature_k, self.irradiance_w_m2)))
 
 
 @dataclass(frozen=True)
@@ -385,13 +401,14 @@ def _absorption(layers) -> tuple:
 
 
 def _star(data) -> Star:
-    """The ``star`` object: the sun, or a black body of a temperature."""
+    """The ``star`` object: the sun, or a black body of a temperature; its irradiance (optional)."""
     sr = FieldReader(data, "star")
     kind = sr.get("type")
     temperature = sr.get("temperature_k") if kind == "blackbody" else None
+    irradiance = sr.get("irradiance_w_m2", optional=True, default=SOLAR_CONSTANT)
     sr.done()
     with fields_of("star"):
-        return Star(kind, temperature)
+        return Star(kind, temperature, irradiance)
 
 
 def to_dict(atm: Atmosphere) -> dict:
@@ -419,6 +436,8 @@ def to_dict(atm: Atmosphere) -> dict:
         out["star"] = {"type": atm.star.type}
         if atm.star.temperature_k is not None:
             out["star"]["temperature_k"] = atm.star.temperature_k
+        if atm.star.irradiance_w_m2 != SOLAR_CONSTANT:
+            out["star"]["irradiance_w_m2"] = atm.star.irradiance_w_m2
     if atm.air_mass != "geometric":
         out["air_mass"] = atm.air_mass
     return out

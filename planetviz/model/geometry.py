@@ -55,8 +55,9 @@ def distance_to_top_exit(origin, direction, top_radius):
     return np.maximum(np.nan_to_num(t1, nan=0.0), 0.0)
 
 
-#: Height of an observer's eyes above the ground [m]: the camera of ``planetviz sky``, of the queries from a site
-#: and of the end of a flight to the ground.
+#: Height of an observer's eyes above the ground [m]: the camera of ``planetviz sky``, of the queries from a site,
+#: of a view from the ground (``Scene.view_from_ground``, ``planetviz render --view ground``) and of the end of a
+#: flight to the ground.
 EYE_HEIGHT_M = 1.7
 
 

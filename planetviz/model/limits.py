@@ -23,6 +23,8 @@ LIMITS = {
     "ground_albedo": (0.0, 1.0),
     "max_wavelengths": 256,
     "star_temperature_k": (1000.0, 60000.0),
+    "star_irradiance_w_m2": (1.0e-3, 1.0e7),
+    "star_angular_radius_deg": (0.0, 10.0),
     "profile_altitude_m": (-1.0e7, 1.0e7),
     "half_width_m": (0.0, 1.0e7),
     "density": (0.0, 1.0e30),
@@ -76,7 +78,7 @@ def check_numbers(values, name: str, limit: str, n: int | None = None) -> tuple:
     if isinstance(values, np.ndarray):
         values = values.tolist() if values.ndim == 1 else values
     if not isinstance(values, (list, tuple)):
-        raise AtmosphereError(name, "must be a list of numbers" + (f" (one per entry of wavelengths_nm)"
+        raise AtmosphereError(name, "must be a list of numbers" + (" (one per entry of wavelengths_nm)"
                                                                    if n is not None else ""))
     if n is not None and len(values) != n:
         raise AtmosphereError(name, f"has {len(values)} values, expected {n} (one per entry of wavelengths_nm)")

@@ -312,7 +312,7 @@ def _invert(t_nodes, tau, target):
     return t_nodes[rows, k] + np.clip(frac, 0.0, 1.0) * dt
 
 
-def _point(atm, w, p, d, t_nodes, tau, t):
+def collision_point(atm, w, p, d, t_nodes, tau, t):
     """At p + t d: (point, beta_R^scat, beta_M^scat, exact tau from p, sigma~, tau~).
 
     The exact tau adds the Gauss-Legendre integral from the node before t to the tabulated tau there, so
@@ -395,7 +395,7 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
         pick = np.minimum((rng.random(n_ok)[:, None] * cdf[:, -1:] >= cdf).sum(axis=1), STRATA - 1)
         share = STRATA * weights[np.arange(n_ok), pick] / cdf[:, -1]          # pdf over the plain lit pdf
         t = lit.position(ok, ((pick + rng.random(n_ok)) / STRATA * m_lit)[:, None])[:, 0]
-        x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
+        x, b_r, b_m, tau_exact, sigma, tau_t = collision_point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
         nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
         phase = b_r * atm.rayleigh.phase_function(nu) + b_m * atm.mie.phase_function(nu)[:, w]
         t_sun = sun_transmittance(atm, x, sun[ok], index=w)[:, 0]
@@ -480,9 +480,9 @@ class _Paths:
 def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, rng):
     """A collision along the segments p + t d of the paths ``g`` (forced: probability ``p_collide``), drawn
     from the tabulated optical depth; the weight takes beta_scat exp(-tau) over the density sampled (exact tau
-    to the point, :func:`_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
+    to the point, :func:`collision_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
     t = _invert(t_nodes, tau, -np.log1p(-rng.random(len(g)) * absorbed))
-    x, b_r, b_m, tau_exact, sigma, tau_t = _point(atm, w, p, d, t_nodes, tau, t)
+    x, b_r, b_m, tau_exact, sigma, tau_t = collision_point(atm, w, p, d, t_nodes, tau, t)
     ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma, 1.0), 0.0)
     paths.pos[g] = x
     paths.weight[g] *= (b_r + b_m) * absorbed * ratio / p_collide

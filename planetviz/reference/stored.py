@@ -1,7 +1,7 @@
 """Reference results computed once and kept in .npz files with everything they depend on.
 
 A stored result holds the radiance, its standard error and the view transmittance, with the atmosphere's
-parameters (JSON), the rays, the paths per ray, the seed and :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`.
+parameters (JSON, :func:`radiance_parameters`), the rays, the paths per ray, the seed and :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`.
 :func:`stored_solve` returns it while all of those match the request and recomputes (and rewrites) it when any
 differs or the file cannot be read. :func:`stored_reference` names the file after a tag and the rays, for a
 folder of such results (the repository's benchmarks/data/ for its tests and benchmarks).
@@ -9,6 +9,7 @@ folder of such results (the repository's benchmarks/data/ for its tests and benc
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import zipfile
 from pathlib import Path
@@ -34,7 +35,8 @@ def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int =
     camera = np.atleast_2d(np.asarray(camera, dtype=float))
     view_dir = np.atleast_2d(np.asarray(view_dir, dtype=float))
     sun_dir = np.broadcast_to(np.asarray(sun_dir, dtype=float), camera.shape)
-    wanted = {"parameters": atm.to_json(), "solver_version": SOLVER_VERSION, "paths": samples, "seed": seed}
+    wanted = {"parameters": radiance_parameters(atm), "solver_version": SOLVER_VERSION, "paths": samples,
+              "seed": seed}
     stored = _load(path, wanted, (camera, view_dir, sun_dir))
     if stored is not None:
         return stored
@@ -46,6 +48,12 @@ def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int =
              wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **wanted)
     os.replace(tmp, path)
     return res
+
+
+def radiance_parameters(atm) -> str:
+    """The atmosphere's parameters that its radiance per unit solar irradiance depends on, as JSON: all but the
+    star (which scales the light, not the radiance per unit irradiance)."""
+    return json.dumps({key: value for key, value in atm.to_dict().items() if key != "star"}, indent=2)
 
 
 def stored_reference(folder, tag, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0) -> ReferenceResult:

@@ -180,7 +180,7 @@ class AtmosphereActor:
         if key != self._frame_key:
             self._frame_key = key
             self._store.update(draw_uniforms(camera_uniforms(self.renderer), self.sun_direction, self.settings,
-                                             self.atmosphere.bottom_radius_m))
+                                             self.atmosphere))
 
     @calldata_type(VTK_OBJECT)
     def _update_shader(self, caller, event, program=None):

@@ -257,7 +257,7 @@ class DirectionMeshActor:
                                                                           "camera_up")))]
             # Rays that miss the atmosphere and the sun's disc stay black, the background's colour: their
             # triangles are not drawn (from space, most of the frame).
-            sun_radius = math.radians(self.settings.sun_angular_radius_deg)
+            sun_radius = math.radians(self.atmosphere.star.angular_radius_deg())
             edges = longest_edges(dirs, tris)             # shared by the three tests (rebuilt on every move)
             seen = (may_meet_sphere(dirs, tris, cam, self.atmosphere.top_radius_m, edges)
                     | may_meet_disc(dirs, tris, self.sun_direction / np.linalg.norm(self.sun_direction),

@@ -380,7 +380,8 @@ class Scene(pv.Plotter):
         up, _, north = local_frame(latitude, longitude)
         self.set_view(up * distance, -up, up=north, fov=fov)
 
-    def view_from_ground(self, latitude=0.0, longitude=0.0, altitude=2.0, heading=0.0, pitch=10.0, fov=60.0):
+    def view_from_ground(self, latitude=0.0, longitude=0.0, altitude=EYE_HEIGHT_M, heading=0.0, pitch=10.0,
+                         fov=60.0):
         """Camera ``altitude`` [m] above a site looking toward ``heading`` (azimuth from north, deg), ``pitch``
         [deg] above the horizontal."""
         if not (np.isfinite(altitude) and altitude >= 0):

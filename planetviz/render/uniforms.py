@@ -14,10 +14,6 @@ from .textures import MAX_GROUPS, group_count, pad_groups
 TONE_MAPPINGS = {"exponential": 0, "filmic": 1, "clamp": 2}
 OUTPUT_MODES = {"display": 0, "spectral": 1, "linear_srgb": 2}
 
-#: Angular radius of the Sun seen from the Earth [deg].
-SUN_ANGULAR_RADIUS_DEG = 0.2666
-
-
 @dataclass
 class DisplaySettings:
     """What the fragment shader writes: ``output_mode`` (display / spectral / linear_srgb), the three wavelengths
@@ -29,7 +25,6 @@ class DisplaySettings:
     exposure: float = 1e-4
     tone_mapping: str = "exponential"
     show_sun: bool = True
-    sun_angular_radius_deg: float = SUN_ANGULAR_RADIUS_DEG
 
 
 def atmosphere_uniforms(atm):
@@ -80,12 +75,13 @@ def camera_altitude(view, bottom_radius):
     return {"camera_altitude": ("f", float(np.linalg.norm(view["camera_position"][1]) - bottom_radius))}
 
 
-def draw_uniforms(view, sun_direction, settings, bottom_radius):
+def draw_uniforms(view, sun_direction, settings, atm):
     """The per-frame uniforms of the table-based actors: the camera's (``view``, :func:`camera_uniforms`, and
-    :func:`camera_altitude` above ``bottom_radius`` [m]), the sun and the display settings."""
-    cos_radius = math.cos(math.radians(settings.sun_angular_radius_deg))
+    :func:`camera_altitude` above the ground), the sun (its disc as big as ``atm``'s star seen from the planet) and
+    the display settings."""
+    cos_radius = math.cos(math.radians(atm.star.angular_radius_deg()))
     return {
-        **view, **camera_altitude(view, bottom_radius),
+        **view, **camera_altitude(view, atm.bottom_radius_m),
         "sun_direction": ("3f", sun_direction / np.linalg.norm(sun_direction)),
         "sun_cos_radius": ("f", cos_radius), "sun_solid_angle": ("f", 2 * math.pi * (1 - cos_radius)),
         "show_sun": ("i", int(settings.show_sun)),

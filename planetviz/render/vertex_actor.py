@@ -38,7 +38,7 @@ class VertexAtmosphereActor(DirectionMeshActor):
         self.textures.bind(program, self.renderer.GetRenderWindow())
 
     def frame_uniforms(self, view):
-        return draw_uniforms(view, np.asarray(self.sun_direction), self.settings, self.atmosphere.bottom_radius_m)
+        return draw_uniforms(view, np.asarray(self.sun_direction), self.settings, self.atmosphere)
 
     def release(self):
         """Stop following the renderer and free the GPU textures (call before the window closes)."""

@@ -30,7 +30,7 @@ from .near_ground import near_ground_rays, near_ground_single_scattering
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
 
-def _phased(tables, atm, r, mu, mu_s, nu, ground):
+def phased_scattering(tables, atm, r, mu, mu_s, nu, ground):
     """In-scattered radiance (..., W): single scattering with its phases, plus multiple scattering. Ground rays
     from cameras near the ground take their single scattering from near_ground.py, not the tables; the other
     rays next to the horizon's direction from horizon.py, blended into the tables' reading by its share."""
@@ -77,7 +77,7 @@ def sky_radiance(tables, atm, camera, view_dir, sun_dir):
     mu_s = np.clip(np.einsum("ij,ij->i", x, s) / r, -1, 1)
     nu = np.clip(np.einsum("ij,ij->i", v, s), -1, 1)
     ground = ray_intersects_ground(r, mu, tables.bottom)
-    out = _phased(tables, atm, r, mu, mu_s, nu, ground)
+    out = phased_scattering(tables, atm, r, mu, mu_s, nu, ground)
     tr = get_transmittance_to_top_atmosphere_boundary(tables, r, mu)
     g = np.nonzero(ground)[0]
     if g.size:
@@ -86,7 +86,7 @@ def sky_radiance(tables, atm, camera, view_dir, sun_dir):
         mu_d = np.clip((r[g] * mu[g] + d) / r_d, -1, 1)
         mu_s_d = np.clip((r[g] * mu_s[g] + d * nu[g]) / r_d, -1, 1)
         t_xy = get_transmittance(tables, r[g], mu[g], d)
-        far = _phased(tables, atm, r_d, mu_d, mu_s_d, nu[g], np.ones(g.size, bool))
+        far = phased_scattering(tables, atm, r_d, mu_d, mu_s_d, nu[g], np.ones(g.size, bool))
         albedo = np.asarray(atm.ground_albedo)
         sun_ground = get_transmittance_to_sun(tables, np.full(g.size, tables.bottom), mu_s_d) \
             * np.maximum(mu_s_d, 0.0)[:, None]

@@ -1,0 +1,98 @@
+"""The tables against the reference solver on random legal atmospheres and the presets, per ray class, for the
+tuning and the held-out split.
+
+    python benchmarks/tables_suite.py [--split tuning held-out] [--atmospheres 8] [--rays 2] [--quality standard]
+                                      [--paths 4096] [--presets earth mars exo-co2-thick] [--worst 10]
+
+Atmospheres: planetviz.validation.random_atmosphere over the first ``--atmospheres`` seeds of each split (the
+held-out split's seeds are never read while tuning), and the presets with the tuning split. Rays:
+planetviz.validation.rays, ``--rays`` per camera class (ground, aircraft, stratosphere, within 100 m of the top,
+the disc and the limb from space) and light class (the sun's elevation where the ray looks: day >= 2 deg,
+twilight 0 to -6 deg, deep twilight -6 to -18 deg). The reference (``--paths`` per ray and wavelength) is stored
+in benchmarks/data/suite/ and recomputed only when the atmosphere, the rays or the solver change; the tables come
+from the table cache.
+
+Printed per split, light class and camera class: the number of values (ray x wavelength, where the reference is
+above 1e-12 / sr), the RMS and the 95th percentile of the tables' relative error, and the RMS of the reference's
+relative standard error. An RMS error counts when that noise is at most a third of it; otherwise the row reads
+"below resolution". Then the ``--worst`` largest errors with their atmosphere and ray.
+"""
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from planetviz import load_atmosphere
+from planetviz.reference.stored import stored_reference
+from planetviz.tables import QUALITY, TableCache, precompute
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.validation import CAMERAS, LIGHT, SPLITS, random_atmosphere, rays
+
+DATA = Path(__file__).resolve().parent / "data" / "suite"
+
+
+def cases(split, count, presets):
+    """(name, atmosphere, seed) of a split: its first ``count`` random atmospheres, and the presets (tuning)."""
+    for seed in list(SPLITS[split])[:count]:
+        yield f"random-{seed}", random_atmosphere(seed), seed
+    if split == "tuning":
+        for name in presets:
+            yield name, load_atmosphere(name), 0
+
+
+def compare(split, args):
+    """Rows (atmosphere, camera class, light class, camera altitude [m], relative error (W,), relative noise (W,))."""
+    rows = []
+    cache = TableCache()
+    for name, atm, seed in cases(split, args.atmospheres, args.presets):
+        tables = precompute(atm, QUALITY[args.quality], cache=cache)
+        for light in LIGHT:
+            batch = [rays(atm, seed, camera, light, n=args.rays) for camera in CAMERAS]
+            cams, views, suns = (np.concatenate(x) for x in zip(*batch))
+            ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths, seed=seed + 7)
+            got, _ = sky_radiance(tables, atm, cams, views, suns)
+            for k in range(len(cams)):
+                ok = ref.radiance[k] > 1e-12
+                rows.append((name, CAMERAS[k // args.rays], light,
+                             float(np.linalg.norm(cams[k]) - atm.bottom_radius_m),
+                             ((got[k] - ref.radiance[k]) / ref.radiance[k])[ok], (ref.stderr[k] / ref.radiance[k])[ok]))
+        print(f"  {split}: {name} done", flush=True)
+    return rows
+
+
+def report(split, rows, worst):
+    print(f"\n{split} split: {len({r[0] for r in rows})} atmospheres")
+    print("| light | camera | values | RMS error | p95 error | reference noise (RMS) |")
+    print("|---|---|---|---|---|---|")
+    for light in LIGHT:
+        for camera in (*CAMERAS, "all"):
+            sel = [r for r in rows if r[2] == light and camera in (r[1], "all")]
+            err = np.concatenate([r[4] for r in sel]) if sel else np.zeros(0)
+            noise = np.concatenate([r[5] for r in sel]) if sel else np.zeros(0)
+            if not err.size:
+                continue
+            rms, p95, n_rms = np.sqrt(np.mean(err ** 2)), np.percentile(np.abs(err), 95), np.sqrt(np.mean(noise ** 2))
+            figure = f"{100 * rms:.2f}%" if n_rms <= rms / 3 else f"below resolution ({100 * rms:.2f}%)"
+            print(f"| {light} | {camera} | {err.size} | {figure} | {100 * p95:.2f}% | {100 * n_rms:.2f}% |")
+    flat = [(abs(e), e, n, r) for r in rows for e, n in zip(r[4], r[5])]
+    print(f"\nlargest errors ({split}):")
+    for _, e, n, r in sorted(flat, key=lambda x: -x[0])[:worst]:
+        print(f"  {e:+.3f} (noise {n:.3f})  {r[0]}, {r[1]} ({r[3]:.4g} m), {r[2]}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--split", nargs="+", default=list(SPLITS), choices=list(SPLITS))
+    ap.add_argument("--atmospheres", type=int, default=8)
+    ap.add_argument("--rays", type=int, default=2)
+    ap.add_argument("--quality", default="standard", choices=list(QUALITY))
+    ap.add_argument("--paths", type=int, default=4096)
+    ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
+    ap.add_argument("--worst", type=int, default=10)
+    args = ap.parse_args()
+    for split in args.split:
+        report(split, compare(split, args), args.worst)
+
+
+if __name__ == "__main__":
+    main()
