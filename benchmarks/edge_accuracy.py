@@ -2,7 +2,7 @@
 
     python benchmarks/edge_accuracy.py [--quality standard] [--samples 4096] [NAME ...]
 
-The edge atmospheres of tests/test_stability.py (scale heights 10 m and 1000 km, thickness 1 km and = the
+The edge atmospheres of planetviz.validation.edges (scale heights 10 m and 1000 km, thickness 1 km and = the
 planet's radius, optical depth 1e-8 and 100, g = +-0.99, albedo 0 and 1, one wavelength, planets of 100 km and
 1e8 m; the 64-wavelength one is left out: the reference traces each wavelength separately), each seen along 8
 rays: from 2 m above the ground to the zenith, 45 deg up toward and away from the sun, 1 deg above the horizon,
