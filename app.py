@@ -8,8 +8,9 @@ With an output option it renders off-screen instead (no display needed), with th
 """
 import argparse
 import sys
+from pathlib import Path
 
-from planetviz.app.render_options import add_render_options, run_render, wants_output
+from planetviz.app.render_options import add_render_options, place_site_and_sun, run_render, wants_output
 
 
 def main(argv=None):
@@ -20,12 +21,15 @@ def main(argv=None):
     try:
         if wants_output(args):
             return run_render(args)
-        from planetviz.app.window import run
+        from planetviz.app.window import SITE, run
         from planetviz.render import Scene
+        place_site_and_sun(args)
         scene = Scene(args.atmosphere, quality=args.quality, window_size=args.size, method=args.method,
                       shading=args.shading or "auto", exposure=args.exposure, tone_mapping=args.tone_mapping)
-        from pathlib import Path
-        run(scene, mode=args.mode, atmosphere_file=args.atmosphere if Path(args.atmosphere).is_file() else None)
+        scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth)
+        site = (args.latitude, args.longitude) if args.site else SITE
+        run(scene, mode=args.mode, atmosphere_file=args.atmosphere if Path(args.atmosphere).is_file() else None,
+            site=site)
         return 0
     except (ValueError, OSError) as exc:
         print(f"app.py: error: {exc}", file=sys.stderr)

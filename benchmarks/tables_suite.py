@@ -53,9 +53,9 @@ def compare(split, args):
             got, _ = sky_radiance(tables, atm, cams, views, suns)
             for k in range(len(cams)):
                 ok = ref.radiance[k] > 1e-12
-                rows.append((name, CAMERAS[k // args.rays], light,
-                             float(np.linalg.norm(cams[k]) - atm.bottom_radius_m),
-                             ((got[k] - ref.radiance[k]) / ref.radiance[k])[ok], (ref.stderr[k] / ref.radiance[k])[ok]))
+                want = ref.radiance[k][ok]
+                rows.append((name, CAMERAS[k // args.rays], light, float(np.linalg.norm(cams[k]) - atm.bottom_radius_m),
+                             (got[k][ok] - want) / want, ref.stderr[k][ok] / want))
         print(f"  {split}: {name} done", flush=True)
     return rows
 

@@ -8,9 +8,11 @@
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
                          [--method reference|tables|quick] [--quality draft|standard|high] [--no-cache]
                          [--samples N]
+    planetviz sun        --site LAT,LON --time ISO8601|now [--json]
     planetviz render     [--atmosphere|--preset A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
-                         [--size WxH] [--screenshot OUT.png] [--exr OUT.exr] [--quality Q]
-                         [--method tables|quick] [--samples N] [--sweep-sun A B STEP | --flight N]
+                         [--site LAT,LON --time ISO8601] [--size WxH] [--screenshot OUT.png] [--exr OUT.exr]
+                         [--quality Q] [--method tables|quick] [--samples N]
+                         [--sweep-sun A B STEP | --time-lapse START STOP STEP | --flight N]
                          [--fisheye DOME.png|.exr] [--panorama SKY.exr]   (planetviz/app/render_options.py)
 
 Tables are cached in $PLANETVIZ_CACHE (default ~/.cache/planetviz) as OpenEXR files; --no-cache
@@ -99,6 +101,21 @@ def _cmd_radiance(args) -> int:
     how = {"reference": f"{result.samples} paths per ray", "tables": f"{args.quality} tables",
            "quick": f"{result.samples} samples per path, single scattering"}[args.method]
     print(f"wrote {args.out}: {len(queries.camera_m)} rays x {atm.n_wavelengths} wavelengths ({args.method}, {how})")
+    return 0
+
+
+def _cmd_sun(args) -> int:
+    """The Sun's geometric elevation and azimuth for a site and a time (planetviz/model/sun.py)."""
+    import json
+    from ..model.sun import parse_site, parse_time, sun_position
+    latitude, longitude = parse_site(args.site)
+    time = parse_time(args.time)
+    elevation, azimuth = sun_position(latitude, longitude, time)
+    if args.json:
+        print(json.dumps({"elevation_deg": elevation, "azimuth_deg": azimuth}))
+    else:
+        print(f"sun seen from {latitude:g}, {longitude:g} at {time.isoformat()}: elevation {elevation:.4f} deg, "
+              f"azimuth {azimuth:.4f} deg from north through east (geometric, no refraction; NREL SPA)")
     return 0
 
 
@@ -203,6 +220,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
     p.add_argument("--no-cache", action="store_true", help="neither read nor write the table cache")
     p.set_defaults(func=_cmd_precompute)
+
+    p = sub.add_parser("sun", help="print the Sun's elevation and azimuth for a site on Earth and a time")
+    p.add_argument("--site", required=True, help="LAT,LON [deg], north and east positive")
+    p.add_argument("--time", required=True, help="ISO 8601 (with an offset, or UTC), or now")
+    p.add_argument("--json", action="store_true", help='print {"elevation_deg": ..., "azimuth_deg": ...}')
+    p.set_defaults(func=_cmd_sun)
 
     p = sub.add_parser("queries", help="write a queries file (Q.npz) of views from one site, for radiance")
     p.add_argument("--atmosphere", default="earth", help=f"preset ({presets}) or JSON file (its ground radius)")

@@ -3,6 +3,9 @@
     planetviz render --preset mars --view ground --sun-elevation 3 --sun-azimuth 0 --size 1920x1080 \\
                      --screenshot out.png [--exr out.exr]
     planetviz render ... --sweep-sun -6 30 2 --screenshot frames/sun.png      # numbered frames sun_0000.png ...
+    planetviz render --view ground --site 48.85,2.35 --time 2026-06-21T21:30+02:00 --screenshot paris.png
+    planetviz render ... --site 48.85,2.35 --time-lapse 2026-06-21T19:00Z 2026-06-21T21:00Z 10min \
+                     --screenshot frames/day.png                              # the Sun of each time
     planetviz render ... --flight 120 --screenshot frames/fly.png             # orbit to the ground in 120 frames
     planetviz render ... --fisheye dome.png [--fisheye-size 2048]              # 180 deg dome master
     planetviz render ... --panorama sky.exr [--panorama-size 2048x1024]        # equirectangular HDR sky
@@ -46,6 +49,11 @@ def add_render_options(p):
     p.add_argument("--fov", type=float, default=None, help="vertical field of view [deg]")
     p.add_argument("--sun-elevation", type=float, default=30.0, help="seen from the site [deg]")
     p.add_argument("--sun-azimuth", type=float, default=135.0, help="from north through east [deg]")
+    p.add_argument("--site", default=None, metavar="LAT,LON",
+                   help="the site [deg, north and east positive], instead of --latitude and --longitude")
+    p.add_argument("--time", default=None, metavar="ISO8601",
+                   help="the Sun in Earth's sky over the site at this time (with an offset, or UTC; or now), "
+                        "instead of --sun-elevation and --sun-azimuth")
     p.add_argument("--exposure", type=float, default=1e-4, help="multiplies linear sRGB in cd/m^2")
     p.add_argument("--tone-mapping", choices=("exponential", "filmic", "clamp"), default="exponential")
     p.add_argument("--uniform-albedo", action="store_true", help="the atmosphere's ground albedo, no texture")
@@ -62,6 +70,9 @@ def add_render_options(p):
     p.add_argument("--exr", default=None, help="OpenEXR of the linear radiance (batch: the name's stem)")
     p.add_argument("--sweep-sun", nargs=3, type=float, metavar=("START", "STOP", "STEP"), default=None,
                    help="batch: one frame per sun elevation from START to STOP [deg]")
+    p.add_argument("--time-lapse", nargs=3, default=None, metavar=("START", "STOP", "STEP"),
+                   help="batch: one frame per time from START to STOP (ISO 8601) every STEP (10min, 1h, PT10M), "
+                        "the Sun over the site")
     p.add_argument("--flight", type=int, default=None, metavar="FRAMES",
                    help="batch: fly from 4 planet radii straight down to eye height (1.7 m) above the site in FRAMES frames")
     p.add_argument("--fisheye", default=None, help="180 deg dome master (PNG tone-mapped, or .exr linear)")
@@ -111,10 +122,30 @@ def _frame(scene, args, i=None):
                 print(f"wrote {out}")
 
 
+def place_site_and_sun(args):
+    """``--site`` into ``args.latitude`` and ``args.longitude``; ``--time`` into ``args.sun_elevation`` and
+    ``args.sun_azimuth`` (the Sun in Earth's sky, planetviz/model/sun.py). At most one of ``--time``,
+    ``--time-lapse`` and ``--sweep-sun``. Returns the times of ``--time-lapse`` (UTC), or None."""
+    chosen = [name for name in ("time", "time_lapse", "sweep_sun") if getattr(args, name)]
+    if len(chosen) > 1:
+        raise ValueError(f"{' and '.join('--' + n.replace('_', '-') for n in chosen)}: choose one")
+    if args.site is not None:
+        from ..model.sun import parse_site
+        args.latitude, args.longitude = parse_site(args.site)
+    if args.time is not None:
+        from ..model.sun import parse_time, sun_position
+        args.sun_elevation, args.sun_azimuth = sun_position(args.latitude, args.longitude, parse_time(args.time))
+    if args.time_lapse:
+        from ..model.sun import time_steps
+        return time_steps(*args.time_lapse)
+    return None
+
+
 def run_render(args) -> int:
     """Render what ``args`` asks for, off-screen."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     from ..render import Scene
+    times = place_site_and_sun(args)
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
                   off_screen=True, method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
@@ -123,7 +154,15 @@ def run_render(args) -> int:
         set_view(scene, args)
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth, latitude=args.latitude,
                       longitude=args.longitude)
-        if args.sweep_sun:
+        if times:
+            from ..model.sun import sun_position
+            bar = _Bar(len(times), "time-lapse")
+            for i, time in enumerate(times):
+                elevation, azimuth = sun_position(args.latitude, args.longitude, time)
+                scene.set_sun(elevation=elevation, azimuth=azimuth)
+                _frame(scene, args, i)
+                bar(i + 1)
+        elif args.sweep_sun:
             start, stop, step = args.sweep_sun
             if step == 0 or (stop - start) / step < 0:
                 raise ValueError(f"sweep-sun: STEP must be non-zero and go from START toward STOP, got {step:g}")

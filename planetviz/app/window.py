@@ -29,7 +29,7 @@ from ..render.scene import flight_path
 
 PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
 QUALITIES = ("draft", "standard", "high")
-#: The site the window looks at and sees the sun from: latitude, longitude [deg].
+#: The site the window looks at and sees the sun from unless told (``app.py --site``): latitude, longitude [deg].
 SITE = (30.0, 0.0)
 
 
@@ -83,8 +83,9 @@ class PlanetApp:
     >>> app.scene.show()                                    # doctest: +SKIP
     """
 
-    def __init__(self, scene, mode="standard", atmosphere_file=None):
+    def __init__(self, scene, mode="standard", atmosphere_file=None, site=SITE):
         self.scene = scene
+        self.site = site
         self.mode = mode
         self.message = ""
         self._base = scene.atmosphere.to_dict()      # what the "x" (scale) sliders scale
@@ -95,7 +96,7 @@ class PlanetApp:
         self._shots = 0
         self._status = scene.add_text("", position="lower_left", font_size=9, name="status")
         self._alert = scene.add_text("", position="upper_edge", font_size=10, color="orange", name="message")
-        scene.set_sun(latitude=SITE[0], longitude=SITE[1])
+        scene.set_sun(latitude=site[0], longitude=site[1])
         self._building = False
         self._add_sliders()
         for key, preset in PRESET_KEYS.items():
@@ -250,7 +251,7 @@ class PlanetApp:
 
     def camera_preset(self, name):
         """Look at the window's site from orbit, or from 400 km (the limb), 10 km or eye height toward the sun."""
-        s, (lat, lon), heading = self.scene, SITE, self.scene.sun.azimuth
+        s, (lat, lon), heading = self.scene, self.site, self.scene.sun.azimuth
         if name == "orbit":
             s.view_from_space(latitude=lat, longitude=lon)
         elif name == "limb":
@@ -268,7 +269,7 @@ class PlanetApp:
         down = r > 1e5
         path = flight_path(self.scene.atmosphere.bottom_radius_m, frames)
         for alt, pitch in path if down else path[::-1]:
-            self.scene.view_from_ground(latitude=SITE[0], longitude=SITE[1], altitude=alt,
+            self.scene.view_from_ground(latitude=self.site[0], longitude=self.site[1], altitude=alt,
                                         heading=self.scene.sun.azimuth, pitch=pitch)
             self.refresh()
 
@@ -363,9 +364,10 @@ class PlanetApp:
             self.refresh()
 
 
-def run(scene, mode="standard", atmosphere_file=None):
-    """Open the window (blocks until it is closed)."""
-    app = PlanetApp(scene, mode=mode, atmosphere_file=atmosphere_file)
+def run(scene, mode="standard", atmosphere_file=None, site=SITE):
+    """Open the window looking at ``site`` (latitude, longitude [deg]) with the scene's sun there (blocks until it
+    is closed)."""
+    app = PlanetApp(scene, mode=mode, atmosphere_file=atmosphere_file, site=site)
     scene.add_timer_event(max_steps=10 ** 9, duration=250, callback=app.poll)
     scene.show(title="planetviz")
     return app
