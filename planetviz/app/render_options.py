@@ -73,6 +73,10 @@ def add_render_options(p):
     p.add_argument("--time-lapse", nargs=3, default=None, metavar=("START", "STOP", "STEP"),
                    help="batch: one frame per time from START to STOP (ISO 8601) every STEP (10min, 1h, PT10M), "
                         "the Sun over the site")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="batch: render the frames on a local Dask cluster of N processes (resumable either way)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="batch: render the frames on the Dask cluster of this scheduler (tcp://HOST:8786)")
     p.add_argument("--flight", type=int, default=None, metavar="FRAMES",
                    help="batch: fly from 4 planet radii straight down to eye height (1.7 m) above the site in FRAMES frames")
     p.add_argument("--fisheye", default=None, help="180 deg dome master (PNG tone-mapped, or .exr linear)")
@@ -83,11 +87,6 @@ def add_render_options(p):
 
 def wants_output(args):
     return any((args.screenshot, args.exr, args.fisheye, args.panorama))
-
-
-def _numbered(path, i):
-    p = Path(path)
-    return p.with_name(f"{p.stem}_{i:04d}{p.suffix}")
 
 
 class _Bar:
@@ -112,14 +111,12 @@ def set_view(scene, args, altitude=None):
                                heading=args.heading, pitch=args.pitch, fov=args.fov or 60.0)
 
 
-def _frame(scene, args, i=None):
+def _frame(scene, args):
     for path, write in ((args.screenshot, scene.screenshot), (args.exr, scene.render_hdr)):
         if path:
-            out = path if i is None else _numbered(path, i)
-            Path(out).parent.mkdir(parents=True, exist_ok=True)
-            write(str(out))
-            if i is None:
-                print(f"wrote {out}")
+            Path(path).parent.mkdir(parents=True, exist_ok=True)
+            write(str(path))
+            print(f"wrote {path}")
 
 
 def place_site_and_sun(args):
@@ -142,10 +139,14 @@ def place_site_and_sun(args):
 
 
 def run_render(args) -> int:
-    """Render what ``args`` asks for, off-screen."""
+    """Render what ``args`` asks for, off-screen: one picture, or a sequence (planetviz/app/sequence.py)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    from ..render import Scene
     times = place_site_and_sun(args)
+    if times or args.sweep_sun or args.flight:
+        return _run_sequence(args, times)
+    if args.workers is not None or args.scheduler is not None:
+        raise ValueError("workers, scheduler: for a sequence (--sweep-sun, --time-lapse or --flight)")
+    from ..render import Scene
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
                   off_screen=True, method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
@@ -154,39 +155,32 @@ def run_render(args) -> int:
         set_view(scene, args)
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth, latitude=args.latitude,
                       longitude=args.longitude)
-        if times:
-            from ..model.sun import sun_position
-            bar = _Bar(len(times), "time-lapse")
-            for i, time in enumerate(times):
-                elevation, azimuth = sun_position(args.latitude, args.longitude, time)
-                scene.set_sun(elevation=elevation, azimuth=azimuth)
-                _frame(scene, args, i)
-                bar(i + 1)
-        elif args.sweep_sun:
-            start, stop, step = args.sweep_sun
-            if step == 0 or (stop - start) / step < 0:
-                raise ValueError(f"sweep-sun: STEP must be non-zero and go from START toward STOP, got {step:g}")
-            elevations = np.arange(start, stop + 0.5 * step, step)
-            bar = _Bar(len(elevations), "sun sweep")
-            for i, el in enumerate(elevations):
-                scene.set_sun(elevation=float(el))
-                _frame(scene, args, i)
-                bar(i + 1)
-        elif args.flight:
-            from ..render.scene import flight_path
-            path = flight_path(scene.atmosphere.bottom_radius_m, args.flight, level_pitch=args.pitch)
-            bar = _Bar(len(path), "flight")
-            for i, (alt, pitch) in enumerate(path):
-                scene.view_from_ground(latitude=args.latitude, longitude=args.longitude, altitude=alt,
-                                       heading=args.heading, pitch=pitch, fov=args.fov or 60.0)
-                _frame(scene, args, i)
-                bar(i + 1)
-        else:
-            _frame(scene, args)
+        _frame(scene, args)
         if args.fisheye or args.panorama:
             _sky_images(scene, args)
     finally:
         scene.close()
+    return 0
+
+
+def _run_sequence(args, times):
+    from ..model.presets import load_atmosphere
+    from .sequence import SceneSettings, manifest_path, run_sequence, sequence_frames
+    if args.fisheye or args.panorama:
+        raise ValueError("fisheye, panorama: one picture, not a sequence")
+    if args.workers is not None and not 1 <= args.workers <= 256:
+        raise ValueError(f"workers: 1 to 256 processes, got {args.workers}")
+    atm = load_atmosphere(args.atmosphere)
+    settings = SceneSettings(atm.to_json(), quality=args.quality, surface=None if args.uniform_albedo else "texture",
+                             exposure=args.exposure, tone_mapping=args.tone_mapping, size=tuple(args.size),
+                             method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
+                             quick_terms=args.terms)
+    frames = sequence_frames(args, atm.bottom_radius_m, times)
+    bar = _Bar(len(frames), "time-lapse" if times else "sun sweep" if args.sweep_sun else "flight")
+    rendered = run_sequence(settings, frames, workers=args.workers, scheduler=args.scheduler,
+                            progress=lambda done, total: bar(done))
+    print(f"{len(rendered)} frames rendered, {len(frames) - len(rendered)} already there; "
+          f"manifest {manifest_path(frames)}")
     return 0
 
 
