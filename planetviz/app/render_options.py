@@ -83,6 +83,9 @@ def add_render_options(p):
     p.add_argument("--fisheye-size", type=int, default=1024)
     p.add_argument("--panorama", default=None, help="equirectangular HDR sky (OpenEXR)")
     p.add_argument("--panorama-size", type=_size, default=(2048, 1024), help="WIDTHxHEIGHT")
+    p.add_argument("--sky-method", choices=("render", "numpy"), default="render",
+                   help="dome master and panorama: through the renderer (a cube of faces, resampled) or the NumPy "
+                        "evaluator per pixel (the check; slow)")
 
 
 def wants_output(args):
@@ -187,12 +190,11 @@ def _run_sequence(args, times):
 def _sky_images(scene, args):
     from ..model.color import display_colour, linear_srgb
     from ..tables.panorama import equirectangular_directions, fisheye_directions, render_directions
+    from ..render.cube_faces import render_directions as render_cube_directions
     from ..render.hdr import write_exr
     from ..render.surface import write_image
     from ..tables import QUALITY, TableCache, precompute
     atm = scene.atmosphere
-    tables = scene.planet.tables if scene.planet is not None else \
-        precompute(atm, QUALITY[args.quality], cache=TableCache())        # the quick view has none
     cam = scene.camera_location
     jobs = []
     if args.fisheye:
@@ -201,7 +203,13 @@ def _sky_images(scene, args):
         w, h = args.panorama_size
         jobs.append((args.panorama, equirectangular_directions(cam, w, h)))
     for path, dirs in jobs:
-        radiance = render_directions(tables, atm, cam, dirs, scene.sun_direction)
+        if args.sky_method == "render":
+            face = max(16, (args.fisheye_size if path == args.fisheye else args.panorama_size[0] // 2) // 2)
+            radiance = render_cube_directions(scene, dirs, face)
+        else:
+            tables = scene.planet.tables if scene.planet is not None else \
+                precompute(atm, QUALITY[args.quality], cache=TableCache())        # the quick view has none
+            radiance = render_directions(tables, atm, cam, dirs, scene.sun_direction)
         rgb = linear_srgb(radiance, atm)
         if str(path).lower().endswith(".exr"):
             from ..model.optics.light import star_irradiance
