@@ -8,7 +8,6 @@ per view (the largest over the wavelengths), against planetviz/reference/single.
 """
 import argparse
 
-import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.tables import QUALITY, TableCache, precompute
