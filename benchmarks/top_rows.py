@@ -8,7 +8,6 @@ per view (the largest over the wavelengths), against planetviz/reference/single.
 """
 import argparse
 
-
 from planetviz import load_atmosphere
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.validation.single_scattering import altitude_rays, reference_single_scattering, single_scattering_error
