@@ -81,7 +81,8 @@ def test_batch_sweep_dome_and_panorama(tmp_path):
     proc = run_app("--quality", "draft", "--view", "ground", "--size", "64x36", "--sweep-sun", "-4", "4", "4",
                    "--screenshot", "frames/sun.png", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
-    assert sorted(p.name for p in (tmp_path / "frames").iterdir()) == ["sun_0000.png", "sun_0001.png", "sun_0002.png"]
+    assert sorted(p.name for p in (tmp_path / "frames").iterdir()) == ["sun.manifest.json", "sun_0000.png",
+                                                                       "sun_0001.png", "sun_0002.png"]
     assert "sun sweep [" in proc.stdout
     proc = run_app("--quality", "draft", "--view", "ground", "--size", "64x36", "--sun-elevation", "20",
                    "--fisheye", "dome.exr", "--fisheye-size", "64", "--panorama", "sky.exr", "--panorama-size",
@@ -89,7 +90,7 @@ def test_batch_sweep_dome_and_panorama(tmp_path):
     assert proc.returncode == 0, proc.stderr
     with OpenEXR.File(str(tmp_path / "sky.exr"), separate_channels=True) as f:
         sky = f.channels()["G"].pixels
-    # Equirectangular: the upper half (sky) lit, the lower half the ground seen from 2 m (lit, darker).
+    # Equirectangular: the upper half (sky) lit, the lower half the ground seen from 1.7 m (lit, darker).
     assert sky.shape == (32, 64) and sky[:16].mean() > 0 and sky[16:].mean() > 0
     with OpenEXR.File(str(tmp_path / "dome.exr"), separate_channels=True) as f:
         dome = f.channels()["G"].pixels
