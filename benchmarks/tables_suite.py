@@ -2,7 +2,7 @@
 tuning and the held-out split.
 
     python benchmarks/tables_suite.py [--split tuning held-out] [--atmospheres 8] [--rays 2] [--quality standard]
-                                      [--paths 4096] [--presets earth mars exo-co2-thick] [--worst 10]
+                                      [--paths 4096] [--presets earth mars exo-co2-thick] [--worst 10] [--single]
 
 Atmospheres: planetviz.validation.random_atmosphere over the first ``--atmospheres`` seeds of each split (the
 held-out split's seeds are never read while tuning), and the presets with the tuning split. Rays:
@@ -16,6 +16,11 @@ Printed per split, light class and camera class: the number of values (ray x wav
 above 1e-12 / sr), the RMS and the 95th percentile of the tables' relative error, and the RMS of the reference's
 relative standard error. An RMS error counts when that noise is at most a third of it; otherwise the row reads
 "below resolution". Then the ``--worst`` largest errors with their atmosphere and ray.
+
+``--single`` compares instead the tables' first order (single scattering and the directly lit ground, the
+multiple-scattering and sky-irradiance tables set to 0) with the deterministic quadrature of
+planetviz/reference/single.py, which has no noise (relative error below 1e-4): most of the light by day, and
+resolvable at any level; ``--rays`` then may be larger at little cost.
 """
 import argparse
 from pathlib import Path
@@ -27,6 +32,7 @@ from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, random_atmosphere, rays
+from planetviz.validation.single_scattering import reference_single_scattering, single_scattering_only
 
 DATA = Path(__file__).resolve().parent / "data" / "suite"
 
@@ -49,13 +55,20 @@ def compare(split, args):
         for light in LIGHT:
             batch = [rays(atm, seed, camera, light, n=args.rays) for camera in CAMERAS]
             cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-            ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths, seed=seed + 7)
-            got, _ = sky_radiance(tables, atm, cams, views, suns)
+            if args.single:
+                want_all = reference_single_scattering(atm, cams, views, suns)
+                noise_all = np.zeros_like(want_all)
+                got, _ = sky_radiance(single_scattering_only(tables), atm, cams, views, suns)
+            else:
+                ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths,
+                                       seed=seed + 7)
+                want_all, noise_all = ref.radiance, ref.stderr
+                got, _ = sky_radiance(tables, atm, cams, views, suns)
             for k in range(len(cams)):
-                ok = ref.radiance[k] > 1e-12
-                want = ref.radiance[k][ok]
+                ok = want_all[k] > 1e-12
+                want = want_all[k][ok]
                 rows.append((name, CAMERAS[k // args.rays], light, float(np.linalg.norm(cams[k]) - atm.bottom_radius_m),
-                             (got[k][ok] - want) / want, ref.stderr[k][ok] / want))
+                             (got[k][ok] - want) / want, noise_all[k][ok] / want))
         print(f"  {split}: {name} done", flush=True)
     return rows
 
@@ -89,6 +102,7 @@ def main():
     ap.add_argument("--paths", type=int, default=4096)
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--worst", type=int, default=10)
+    ap.add_argument("--single", action="store_true", help="the first order against the reference quadrature")
     args = ap.parse_args()
     for split in args.split:
         report(split, compare(split, args), args.worst)
