@@ -50,8 +50,10 @@ vec4 texture_group(sampler2D table, vec2 uv, int g) {
     return texture(table, vec2(uv.x, (float(g) + uv.y) / float(group_count)));
 }
 
+// The table holds the mean extinction tau / d along the ray (NumPy's docstring says why): times the ray's length d.
 vec4 get_optical_depth_to_top_atmosphere_boundary(float a, float mu, int g) {
-    return texture_group(optical_depth_texture, transmittance_uv_from_r_mu(a, mu), g);
+    return texture_group(optical_depth_texture, transmittance_uv_from_r_mu(a, mu), g)
+        * distance_to_top_atmosphere_boundary(a, mu);
 }
 
 vec4 get_transmittance_to_top_atmosphere_boundary(float a, float mu, int g) {
@@ -230,10 +232,18 @@ vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, int
     return mix(ratio, vec4(k), lessThanEqual(tau_1, vec4(0.0))) / f;
 }
 
+// 1 - T of a ray (a, mu) that leaves through the top of the atmosphere, 1 for a ray to the ground: the tables' sky
+// half holds S / (1 - T) and get_scattering multiplies it back (NumPy: ray_opacity, whose docstring says why).
+vec4 ray_opacity(float a, float mu, bool intersects_ground, int g) {
+    if (intersects_ground) return vec4(1.0);
+    return one_minus_exp(get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
+}
+
 // The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel
-// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu.
+// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu, times the ray's
+// opacity (ray_opacity, the caller's: one per ray for the four tables).
 vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, float nu, bool intersects_ground,
-                    int g) {
+                    vec4 opacity, int g) {
     float n_nu = size.x, n_mu_s = size.y;
     vec4 uvwz = scattering_uvwz_from_r_mu_mu_s_nu(a, mu, mu_s, nu, intersects_ground, size);
     float coord = uvwz.x * (n_nu - 1.0);
@@ -250,5 +260,5 @@ vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, f
         vec4 b = texture(table, vec3((base + s0 + 1.5) / (n_nu * n_mu_s), uvwz.z, z));
         slices[dn] = geometric_blend(a, b, fs);
     }
-    return n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
+    return (n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0]) * opacity;
 }

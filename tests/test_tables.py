@@ -14,9 +14,9 @@ from planetviz.reference import optical_depth, single_scattering
 from planetviz.reference.montecarlo import QUALITY_SAMPLES
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_scattering, get_transmittance_to_sun
-from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, mu_s_from_x_mu_s,
-                                               r_mu_from_transmittance_uv, r_mu_mu_s_nu_from_scattering_uvwz,
-                                               ray_intersects_ground,
+from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, distance_to_top_atmosphere_boundary,
+                                               mu_s_from_x_mu_s, r_mu_from_transmittance_uv,
+                                               r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
                                                scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu,
                                                unit_range_from_texcoord)
 from planetviz.tables.nodes import scattering_grid
@@ -135,13 +135,14 @@ def test_texture_reads_are_linear_interpolation_between_texel_centres():
 def test_scattering_lookup_is_linear_in_r_and_mu_and_geometric_in_mu_s_and_nu():
     # A table that is linear in the r and mu texel indices and exponential in the mu_s and nu ones is read
     # back exactly at any continuous texel coordinate: the lookup interpolates r and mu linearly (the
-    # hardware's part) and mu_s and nu geometrically. Checked against the closed form, not the code.
+    # hardware's part) and mu_s and nu geometrically. Checked against the closed form, not the code. The ray's
+    # opacity, by which every read is multiplied, is given as 1 (what is read before it).
     n_r, n_mu, n_nu, n_mu_s = 6, 10, 4, 8
     k, j, n, s = np.meshgrid(np.arange(n_r), np.arange(n_mu), np.arange(n_nu), np.arange(n_mu_s), indexing="ij")
     table = ((1.0 + 2.0 * k + 3.0 * j) * np.exp(-0.7 * s + 0.4 * n))[..., None]
     r, mu, mu_s, nu, g = random_geometry(300, seed=5)
     t = type("T", (), {"bottom": B, "top": T})()
-    got = get_scattering(t, table, r, mu, mu_s, nu, g)[:, 0]
+    got = get_scattering(t, table, r, mu, mu_s, nu, g, opacity=np.ones((300, 1)))[:, 0]
     u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, (n_nu, n_mu_s, n_mu, n_r))
     kc, jc, sc = (u_r * n_r - 0.5), (u_mu * n_mu - 0.5), (u_mu_s * n_mu_s - 0.5)
     nc = u_nu * (n_nu - 1)
@@ -160,7 +161,8 @@ def test_scattering_lookup_decays_geometrically_toward_a_zero_texel():
     t = type("T", (), {"bottom": B, "top": T})()
     x = (np.array([1.5, 1.25, 2.0]) + 0.5) / 4             # texel coordinates 1.5, 1.25 and 2 along mu_s
     mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(x, 4), B, T)
-    got = get_scattering(t, table, np.full(3, B + 100.0), np.full(3, 0.5), mu_s, np.full(3, 0.5), np.zeros(3, bool))
+    got = get_scattering(t, table, np.full(3, B + 100.0), np.full(3, 0.5), mu_s, np.full(3, 0.5), np.zeros(3, bool),
+                         opacity=np.ones((3, 1)))
     assert np.allclose(got[:, 0], [ZERO_FLOOR ** 0.5, ZERO_FLOOR ** 0.75, 1.0], rtol=1e-6)
 
 
@@ -185,17 +187,18 @@ def test_short_ground_rays_scatter_in_proportion_to_their_length(preset):
 
 
 def test_transmittance_table_matches_reference_quadrature(standard_single):
-    # At the texel centres the table is the quadrature itself: against the reference's independent
-    # quadrature it agrees to 1.5e-3 relative in optical depth (measured: 1.05e-3 at worst, a short upward
-    # ray crossing the ozone tent's upper kink, 4.5e-5 median, with 64 Gauss-Legendre nodes per side); a
-    # wrong mapping or a missing component is off by far more.
+    # At the texel centres the table (the mean extinction tau / d) times the ray's length d is the quadrature
+    # itself: against the reference's independent quadrature it agrees to 1.5e-3 relative in optical depth
+    # (measured: 1.05e-3 at worst, a short upward ray crossing the ozone tent's upper kink, 4.5e-5 median, with
+    # 64 Gauss-Legendre nodes per side); a wrong mapping or a missing component is off by far more.
     n_r, n_mu = standard_single.optical_depth.shape[:2]
     u, v = np.meshgrid((np.arange(n_mu) + 0.5) / n_mu, (np.arange(n_r) + 0.5) / n_r)
     r, mu = r_mu_from_transmittance_uv(u, v, B, T, (n_mu, n_r))
     pts = np.stack([np.zeros(r.size), np.sqrt(np.maximum(1 - mu.ravel() ** 2, 0)) * r.ravel(), mu.ravel() * r.ravel()], 1)
     dirs = np.tile([0.0, 0.0, 1.0], (r.size, 1))
     tau = optical_depth(EARTH, pts, dirs, np.inf)
-    tau_table = standard_single.optical_depth.reshape(-1, 3).astype(float)
+    d = distance_to_top_atmosphere_boundary(r, mu, T).reshape(-1, 1)
+    tau_table = standard_single.optical_depth.reshape(-1, 3).astype(float) * d
     assert np.allclose(tau_table, tau, rtol=1.5e-3, atol=1e-6)
 
 
@@ -211,7 +214,8 @@ def test_sun_transmittance_for_many_suns_per_radius_is_the_same_bilinear_read(st
     n_r, n_mu = standard_single.optical_depth.shape[:2]
     u, v = transmittance_uv_from_r_mu(np.broadcast_to(r, mu_s.shape), mu_s, B, T, (n_mu, n_r))
     shadow = ray_intersects_ground(r, mu_s, B)[..., None]
-    want = np.where(shadow, 0.0, np.exp(-texture2d(standard_single.optical_depth, u, v)))
+    d = distance_to_top_atmosphere_boundary(np.broadcast_to(r, mu_s.shape), mu_s, T)[..., None]
+    want = np.where(shadow, 0.0, np.exp(-texture2d(standard_single.optical_depth, u, v) * d))
     got = get_transmittance_to_sun(standard_single, r, mu_s)
     assert got.shape == want.shape and 0.05 < shadow.mean() < 0.95
     assert np.abs(got - want).max() < 1e-6

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .lookup import get_scattering, ground_row_factor
+from .lookup import get_scattering, ground_row_factor, ray_opacity
 from .multiple import forward_factor
 from .parameterization import clamp_cosine, ray_intersects_ground, texcoord_from_unit_range, unit_range_from_texcoord
 from .sampling import texture3d
@@ -76,14 +76,14 @@ def compact_tables(tables, atm, size=COMPACT_SIZE, azimuths: int = 16) -> Compac
     rr, mm, ss, ww = np.meshgrid(r, mu, mu_s, omega, indexing="ij")
     nu = clamp_cosine(mm * ss + np.sqrt((1 - mm * mm) * (1 - ss * ss)) * np.cos(ww))
     ground = ray_intersects_ground(rr, mm, tables.bottom)
+    opacity = ray_opacity(tables, rr, mm, ground)
     single_factor, multiple_factor = (ground_row_factor(tables, rr, mm, ground, table.shape[0])
                                       for table in (tables.rayleigh, tables.multiple))
-    out = {name: (get_scattering(tables, getattr(tables, name), rr, mm, ss, nu, ground) * single_factor)
-           .mean(3).astype(np.float32) for name in ("rayleigh", "mie")}
-    multiple = (get_scattering(tables, tables.multiple, rr, mm, ss, nu, ground)
-                + forward_factor(atm, nu) * get_scattering(tables, tables.multiple_mie, rr, mm, ss, nu, ground)) \
-        * multiple_factor
-    out["multiple"] = multiple.mean(3).astype(np.float32)
+    read = {name: get_scattering(tables, getattr(tables, name), rr, mm, ss, nu, ground, opacity)
+            for name in ("rayleigh", "mie", "multiple", "multiple_mie")}
+    out = {name: (read[name] * single_factor).mean(3).astype(np.float32) for name in ("rayleigh", "mie")}
+    out["multiple"] = ((read["multiple"] + forward_factor(atm, nu) * read["multiple_mie"]) * multiple_factor) \
+        .mean(3).astype(np.float32)
     return CompactTables(tables.bottom, tables.top, tables.optical_depth, tables.irradiance, **out)
 
 

@@ -23,8 +23,8 @@ from ..model.geometry import ray_sphere
 from ..model.queries import validate_queries
 from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
-from .lookup import (get_irradiance, get_scattering, get_transmittance, ground_row_factor,
-                     get_transmittance_to_sun, get_transmittance_to_top_atmosphere_boundary)
+from .lookup import (get_irradiance, get_scattering, get_transmittance, get_transmittance_to_sun,
+                     get_transmittance_to_top_atmosphere_boundary, ground_row_factor, ray_opacity)
 from .horizon import horizon_quadrature_applies, horizon_share, horizon_single_scattering
 from .near_ground import near_ground_rays, near_ground_single_scattering
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
@@ -38,7 +38,8 @@ def phased_scattering(tables, atm, r, mu, mu_s, nu, ground):
         s_r, s_m, s_ms = (get_compact_scattering(tables, table, r, mu, mu_s)
                           for table in (tables.rayleigh, tables.mie, tables.multiple))
     else:
-        s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground)
+        opacity = ray_opacity(tables, r, mu, ground)
+        s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground, opacity)
                                     for table in (tables.rayleigh, tables.mie, tables.multiple, tables.multiple_mie))
         near = near_ground_rays(tables, r, ground)
         if np.any(near):

@@ -26,7 +26,8 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
 
 S_n is radiance (phase included) and accumulates into two tables, the light last scattered by molecules
 and that last scattered by particles divided by ``forward_factor`` (with the particles' part of J), so
-that a sharp forward lobe leaves a slowly varying table; E accumulates into the irradiance table. Orders
+that a sharp forward lobe leaves a slowly varying table, both divided by the ray's ``lookup.ray_opacity``
+as the single-scattering tables are; E accumulates into the irradiance table. Orders
 stop when the tail estimated from the ratio q of the last two orders, S_n q / (1 - q), is below
 ``tolerance`` of the total (both for scattering and irradiance), or at ``max_orders``; stopped there with
 ``tolerance`` > 0, the tail is added (``geometric_tail``; with ``tolerance`` = 0 the sum is exactly the orders
@@ -36,9 +37,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .lookup import (ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
-                     get_transmittance_to_sun, ground_row_factor)
-from .nodes import LONG_RAY_NODE_FACTOR, is_optically_thick, ray_nodes, scattering_grid, split_ray_nodes
+from .lookup import (SMALLEST, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
+                     get_transmittance_to_sun, ground_row_factor, ray_opacity)
+from .nodes import (LONG_RAY_NODE_FACTOR, integration_grid, is_optically_thick, ray_nodes, scattering_grid,
+                    split_ray_nodes)
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
@@ -87,6 +89,7 @@ class _Incident:
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
         d_ground = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
         self.forward = None
+        self.opacity = ray_opacity(tables, self.r, self.mu, self.ground)
         # lookup.ground_row_factor of the single and the multiple-scattering tables at these points
         self.single_factor = ground_row_factor(tables, self.r, self.mu, self.ground, tables.rayleigh.shape[0])
         if along_rays is None:
@@ -109,10 +112,10 @@ class _Incident:
         """(light last scattered by molecules, by particles) (..., K, W): the sky radiance of that order (from
         ``density_prev``, J of that order, where the geometry integrates along the rays)."""
         if order == 1:
-            return (get_scattering(tables, tables.rayleigh, self.r, self.mu, self.mu_s, self.nu, self.ground)
-                    * atm.rayleigh.phase_function(self.nu)[..., None] * self.single_factor,
-                    get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground)
-                    * atm.mie.phase_function(self.nu) * self.single_factor)
+            return (get_scattering(tables, tables.rayleigh, self.r, self.mu, self.mu_s, self.nu, self.ground,
+                                   self.opacity) * atm.rayleigh.phase_function(self.nu)[..., None] * self.single_factor,
+                    get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground,
+                                   self.opacity) * atm.mie.phase_function(self.nu) * self.single_factor)
         if self.forward is None:                  # the same every order: computed once
             self.forward = forward_factor(atm, self.nu)
         if self.rays is not None:
@@ -195,17 +198,18 @@ def _mie_kernels(atm, v, dirs, weights):
     return out
 
 
-def _ray_paths(tables, atm, r, mu, mu_s, nu, ground, samples, thick, density_shape):
+def _ray_paths(tables, atm, size, samples, thick, density_shape):
     """Integration along the texels' rays, fixed for all orders, in two sets: rays up to the length of the
     ground's horizontal ray to the top, and longer ones, which graze the planet from high up and get
     ``nodes.LONG_RAY_NODE_FACTOR`` times the nodes (through the limb seen from space the density peaks in
     the middle of a 1600 km ray: with 8 nodes order 2 read 11% above its value with 4x the nodes at 440 nm,
-    tests/test_tables.py). Returns [(rays, an index into the (n_r, n_mu) axes; the stencil reading J, a table
-    of ``density_shape``, at the nodes; node weights (rays, n_nu, n_mu_s, K, 2W), the view transmittance and
-    each component's density folded in, against J's 2W channels)]."""
-    r2, mu2, g2 = r[:, :, 0, 0], mu[:, :, 0, 0], ground[:, :, 0, 0]
-    d2 = np.where(g2, distance_to_bottom_atmosphere_boundary(r2, mu2, tables.bottom),
-                  distance_to_top_atmosphere_boundary(r2, mu2, tables.top))
+    tests/test_tables.py). The rays are ``nodes.integration_grid``'s for a table of ``size``. Returns [(rays, an
+    index into the (n_r, n_mu) axes; the stencil reading J, a table of ``density_shape``, at the nodes; node
+    weights (rays, n_nu, n_mu_s, K, 2W), the view transmittance, each component's density and 1 / the ray's
+    ``lookup.ray_opacity`` folded in, against J's 2W channels)]."""
+    r, mu, mu_s, nu, ground, d = integration_grid(tables, size)
+    r2, mu2, g2, d2 = r[:, :, 0, 0], mu[:, :, 0, 0], ground[:, :, 0, 0], d[:, :, 0, 0]
+    opacity = np.maximum(ray_opacity(tables, r2, mu2, g2), SMALLEST)   # 0 where the air is too thin (S is 0)
     long_ray = d2 > np.sqrt(tables.top ** 2 - tables.bottom ** 2)
     paths = []
     for long in (False, True):
@@ -213,9 +217,11 @@ def _ray_paths(tables, atm, r, mu, mu_s, nu, ground, samples, thick, density_sha
         if rays[0].size == 0:
             continue
         n = samples * (LONG_RAY_NODE_FACTOR if long else 1)
-        rr, mm, gg, d = (a[rays][:, None, None] for a in (r2, mu2, g2, d2))            # (rays, 1, 1)
-        paths.append((rays,) + _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg, d,
-                                                   n, thick))
+        rr, mm, gg, dd = (a[rays][:, None, None] for a in (r2, mu2, g2, d2))            # (rays, 1, 1)
+        stencil, node_weight = _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg, dd,
+                                                   n, thick)
+        per_opacity = np.concatenate([opacity[rays], opacity[rays]], -1)[:, None, None, None, :]
+        paths.append((rays, stencil, (node_weight / per_opacity).astype(np.float32)))
     return paths
 
 
@@ -347,7 +353,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders;
     # rays longer than the ground's horizontal ray get LONG_RAY_NODE_FACTOR times the nodes.
-    paths = _ray_paths(tables, atm, r, mu, mu_s, nu, ground, samples, thick, density_shape)
+    paths = _ray_paths(tables, atm, size, samples, thick, density_shape)
 
     total = np.zeros(shape + (2 * W,))
     irradiance = np.zeros(r_irr.shape + (W,))

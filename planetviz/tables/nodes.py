@@ -10,7 +10,8 @@ import functools
 
 import numpy as np
 
-from .parameterization import r_mu_mu_s_nu_from_scattering_uvwz
+from .parameterization import (distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary,
+                               r_mu_mu_s_nu_from_scattering_uvwz, texcoord_from_unit_range)
 
 #: How many times the nodes rays longer than the ground's horizontal ray get (``single_scattering`` and the
 #: multiple-scattering stage, ``multiple._ray_paths``).
@@ -100,3 +101,42 @@ def scattering_grid(tables, size=None):
     shape = (n_r, n_mu, n_nu, n_mu_s)
     out = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
     return tuple(np.ascontiguousarray(np.broadcast_to(a, shape)) for a in out)     # r and mu per (r, mu) only
+
+
+#: The length of the rays that stand in for the tables' rays of zero length, as a fraction of the atmosphere's
+#: thickness (``integration_grid``; ``precompute.optical_depth_to_top``).
+ZERO_RAY_LENGTH = 1e-4
+
+
+def integration_grid(tables, size=None):
+    """(r, mu, mu_s, nu, intersects_ground, d) of the rays the stages integrate for a 4D table of ``size``: the
+    texel centres of :func:`scattering_grid` and each ray's length d to the ground or the top, except the top
+    row's sky texels whose ray has zero length (next to the zenith), which are integrated from the same texture
+    coordinates (u_nu, u_mu_s, u_mu) of a row ``ZERO_RAY_LENGTH`` times the thickness under the top: the sky
+    half of the tables holds S / (1 - T) (``lookup.ray_opacity``), which for those texels is the limit 0 / 0,
+    the source function at the top, and those rays give it. (The ground row's ground rays, of zero length too,
+    hold S = 0: the ground half is not divided by 1 - T.)"""
+    size = tables.sizes.scattering if size is None else size
+    n_nu, n_mu_s, n_mu, n_r = size
+    r, mu, mu_s, nu, ground = (np.array(a) for a in scattering_grid(tables, size))
+    d = _length(r, mu, ground, tables.bottom, tables.top)
+    h = np.sqrt(tables.top ** 2 - tables.bottom ** 2)
+    radius = tables.top - ZERO_RAY_LENGTH * (tables.top - tables.bottom)
+    row = n_r - 1
+    zero = (d[row] == 0.0) & ~ground[row]
+    if np.any(zero):
+        u_r = texcoord_from_unit_range(np.sqrt(radius ** 2 - tables.bottom ** 2) / h, n_r)
+        u_mu = np.broadcast_to(texel_centres(n_mu)[:, None, None], zero.shape)[zero]
+        u_nu = np.broadcast_to((np.arange(n_nu) / max(n_nu - 1, 1))[None, :, None], zero.shape)[zero]
+        u_mu_s = np.broadcast_to(texel_centres(n_mu_s)[None, None, :], zero.shape)[zero]
+        sub = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
+        for array, value in zip((r, mu, mu_s, nu, ground), sub):
+            array[row][zero] = value
+        d[row][zero] = _length(sub[0], sub[1], sub[4], tables.bottom, tables.top)
+    return r, mu, mu_s, nu, ground, d
+
+
+def _length(r, mu, ground, bottom, top):
+    """The distance along (r, mu) to the ground (``ground``) or the top."""
+    return np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, bottom),
+                    distance_to_top_atmosphere_boundary(r, mu, top))

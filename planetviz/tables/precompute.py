@@ -4,13 +4,14 @@ Stages (each a function of the atmosphere and the table sizes):
 
 1. ``transmittance``  the optical depth tau(r, mu) = int_0^d beta_ext dt to the top (T = exp(-tau), Eq. 5),
    Gauss-Legendre quadrature split at the ray's closest approach to the centre, nodes clustered there
-   (t = t_c +- span u^2). The table stores tau, not T: in a thick atmosphere T to the top underflows float32
-   near the horizon (tau of several hundred), and T(x, y) as a ratio of two such T is 0 / 0, while a
-   difference of optical depths keeps its precision.
+   (t = t_c +- span u^2). The table stores the mean extinction tau / d along the ray, not T: in a thick
+   atmosphere T to the top underflows float32 near the horizon (tau of several hundred), and T(x, y) as a
+   ratio of two such T is 0 / 0, while a difference of optical depths keeps its precision; tau / d stays
+   smooth next to the top, where tau falls to 0.
 2. ``single_scattering``  S_R,1 and S_M,1 (r, mu, mu_s, nu) = int_0^d beta_i^scat(h_t) T(x, x_t) T_sun(x_t) dt,
-   kept apart and without phase (applied at render time, Mie per wavelength with its DHG). The view
-   transmittance and density depend on (r, mu, t) only; only T_sun(r_t, mu_s,t) with
-   mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
+   divided by the ray's opacity 1 - T(x, x_d) (``lookup.ray_opacity``), kept apart and without phase (applied
+   at render time, Mie per wavelength with its DHG). The view transmittance and density depend on (r, mu, t)
+   only; only T_sun(r_t, mu_s,t) with mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
 3. ``multiple_scattering`` (tables/multiple.py): orders >= 2 and the indirect irradiance.
 
 The sun's direct irradiance E_0 = T_sun max(mu_s, 0) (point sun) is not tabulated: it is read from the
@@ -28,11 +29,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .cache import parameters_hash, stage_parameters
-from .lookup import get_transmittance, get_transmittance_to_sun
+from .lookup import SMALLEST, get_transmittance, get_transmittance_to_sun, ray_opacity
 from .multiple import multiple_scattering
-from .nodes import LONG_RAY_NODE_FACTOR, altitude, is_optically_thick, ray_nodes, scattering_grid, texel_centres
-from .parameterization import (distance_to_bottom_atmosphere_boundary,
-                               distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv)
+from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, altitude, integration_grid, is_optically_thick, ray_nodes,
+                    texel_centres)
+from .parameterization import distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv
 
 
 @dataclass(frozen=True)
@@ -100,14 +101,21 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
 
 
 def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
-    """tau(r, mu) to the top of the atmosphere (T = exp(-tau)), shape (n_r, n_mu, W)."""
+    """The mean extinction tau(r, mu) / d along the ray to the top of the atmosphere (T = exp(-tau), d the ray's
+    length; ``lookup.get_optical_depth_to_top_atmosphere_boundary`` says why), shape (n_r, n_mu, W). The top
+    row's ray next to the zenith has d = 0: its mean is taken over the ray up from ``nodes.ZERO_RAY_LENGTH``
+    times the thickness below the top."""
     n_mu, n_r = sizes.transmittance
     u, v = np.meshgrid(texel_centres(n_mu), texel_centres(n_r))
     r, mu = r_mu_from_transmittance_uv(u, v, atm.bottom_radius_m, atm.top_radius_m, (n_mu, n_r))
     d = distance_to_top_atmosphere_boundary(r, mu, atm.top_radius_m)
+    zero = d == 0.0
+    r = np.where(zero, atm.top_radius_m - ZERO_RAY_LENGTH * atm.thickness_m, r)
+    mu = np.where(zero, 1.0, mu)
+    d = np.where(zero, atm.top_radius_m - r, d)
     t, w = ray_nodes(r, mu, d, sizes.transmittance_samples)
     ext = atm.extinction(altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
-    return np.einsum("...k,...kw->...w", w, ext)
+    return np.einsum("...k,...kw->...w", w, ext) / d[..., None]
 
 
 def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
@@ -150,19 +158,19 @@ SINGLE_SCATTERING_BLOCK = 2 ** 16
 
 
 def single_scattering(tables: Tables, atm, progress=None):
-    """(S_R,1, S_M,1), each (n_r, n_mu, n_nu, n_mu_s, W): in-scattered radiance without phase.
+    """(S_R,1, S_M,1), each (n_r, n_mu, n_nu, n_mu_s, W): in-scattered radiance without phase, divided by the
+    ray's opacity 1 - T (``lookup.ray_opacity``), on ``nodes.integration_grid``'s rays.
 
     Rays longer than the horizontal ray from the ground to the top (those that graze the planet from high up)
     get LONG_RAY_NODE_FACTOR times the nodes: with a low sun behind the camera the sunlight along them ends
     where they enter the planet's shadow, far away, a step that nodes at fixed places resolve poorly (from 50 km
     such a ray reads 3.0% off with 8 nodes per side, 0.8% with 16; the seam test, docs/stability.md)."""
-    r, mu, mu_s, nu, ground = scattering_grid(tables)
+    r, mu, mu_s, nu, ground, d = integration_grid(tables)
     n_r = r.shape[0]
     out_r = np.empty(r.shape + (atm.n_wavelengths,))
     out_m = np.empty_like(out_r)
-    r_2, mu_2, ground_2 = (a[:, :, :1, :1] for a in (r, mu, ground))                   # (n_r, n_mu, 1, 1)
-    d = np.where(ground_2, distance_to_bottom_atmosphere_boundary(r_2, mu_2, tables.bottom),
-                 distance_to_top_atmosphere_boundary(r_2, mu_2, tables.top))
+    r_2, mu_2, ground_2, d = (a[:, :, :1, :1] for a in (r, mu, ground, d))            # (n_r, n_mu, 1, 1)
+    opacity = ray_opacity(tables, r_2, mu_2, ground_2)
     long_ray = d[:, :, 0, 0] > np.sqrt(tables.top ** 2 - tables.bottom ** 2)
     for i in range(n_r):
         if progress:
@@ -177,7 +185,8 @@ def single_scattering(tables: Tables, atm, progress=None):
                 t, w = ray_nodes(ri, mui, d[rays], samples)                  # (block, 1, 1, K)
                 out_r[rays], out_m[rays] = single_scattering_integral(tables, atm, ri, mui, mu_s[rays], nu[rays],
                                                                       t, w)
-    return out_r, out_m
+    opacity = np.maximum(opacity, SMALLEST)                 # 0 where the air is too thin to represent (S is 0)
+    return out_r / opacity, out_m / opacity
 
 
 def stage_shapes(sizes: TableSizes, n_wavelengths: int) -> dict:
