@@ -3,6 +3,7 @@ tuning and the held-out split.
 
     python benchmarks/tables_suite.py [--split tuning held-out] [--atmospheres 8] [--rays 2] [--quality standard]
                                       [--paths 4096] [--presets earth mars exo-co2-thick] [--worst 10] [--single]
+                                      [--conditions]
 
 Atmospheres: planetviz.validation.random_atmosphere over the first ``--atmospheres`` seeds of each split (the
 held-out split's seeds are never read while tuning), and the presets with the tuning split. Rays:
@@ -20,7 +21,9 @@ relative standard error. An RMS error counts when that noise is at most a third 
 ``--single`` compares instead the tables' first order (single scattering and the directly lit ground, the
 multiple-scattering and sky-irradiance tables set to 0) with the deterministic quadrature of
 planetviz/reference/single.py, which has no noise (relative error below 1e-4): most of the light by day, and
-resolvable at any level; ``--rays`` then may be larger at little cost.
+resolvable at any level. The difference is taken relative to the whole radiance (the stored reference's, all
+orders), so that a ray whose first order is a small part of its light (the twilight sky seen from the planet's
+shadow) weighs by that part; the noise column is then 0.
 """
 import argparse
 from pathlib import Path
@@ -32,6 +35,7 @@ from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, random_atmosphere, rays
+from planetviz.tables.validated import CONDITIONS
 from planetviz.validation.single_scattering import reference_single_scattering, single_scattering_only
 
 DATA = Path(__file__).resolve().parent / "data" / "suite"
@@ -55,20 +59,19 @@ def compare(split, args):
         for light in LIGHT:
             batch = [rays(atm, seed, camera, light, n=args.rays) for camera in CAMERAS]
             cams, views, suns = (np.concatenate(x) for x in zip(*batch))
+            ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths, seed=seed + 7)
+            total, noise = ref.radiance, ref.stderr
             if args.single:
                 want_all = reference_single_scattering(atm, cams, views, suns)
-                noise_all = np.zeros_like(want_all)
+                noise = np.zeros_like(noise)
                 got, _ = sky_radiance(single_scattering_only(tables), atm, cams, views, suns)
             else:
-                ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths,
-                                       seed=seed + 7)
-                want_all, noise_all = ref.radiance, ref.stderr
+                want_all = total
                 got, _ = sky_radiance(tables, atm, cams, views, suns)
             for k in range(len(cams)):
-                ok = want_all[k] > 1e-12
-                want = want_all[k][ok]
+                ok = total[k] > 1e-12
                 rows.append((name, CAMERAS[k // args.rays], light, float(np.linalg.norm(cams[k]) - atm.bottom_radius_m),
-                             (got[k][ok] - want) / want, noise_all[k][ok] / want))
+                             (got[k][ok] - want_all[k][ok]) / total[k][ok], noise[k][ok] / total[k][ok]))
         print(f"  {split}: {name} done", flush=True)
     return rows
 
@@ -93,6 +96,22 @@ def report(split, rows, worst):
         print(f"  {e:+.3f} (noise {n:.3f})  {r[0]}, {r[1]} ({r[3]:.4g} m), {r[2]}")
 
 
+def report_conditions(rows_by_split, atmospheres):
+    """Daylight errors grouped by planetviz.tables.validated's conditions (an atmosphere in every group whose
+    condition it meets, "none" for those inside the validated range), over both splits: what CONDITIONS carries."""
+    print("\n| condition | atmospheres | values | RMS error | p95 error | reference noise (RMS) |")
+    print("|---|---|---|---|---|---|")
+    rows = [r for split_rows in rows_by_split for r in split_rows if r[2] == "day"]
+    groups = {c.name: [n for n, atm in atmospheres.items() if c.measure(atm) > c.limit] for c in CONDITIONS}
+    groups["none"] = [n for n in atmospheres if not any(n in g for g in groups.values())]
+    for name, members in groups.items():
+        err = np.concatenate([r[4] for r in rows if r[0] in members] or [np.zeros(0)])
+        noise = np.concatenate([r[5] for r in rows if r[0] in members] or [np.zeros(0)])
+        if err.size:
+            print(f"| {name} | {', '.join(members)} | {err.size} | {100 * np.sqrt(np.mean(err ** 2)):.2f}% | "
+                  f"{100 * np.percentile(np.abs(err), 95):.2f}% | {100 * np.sqrt(np.mean(noise ** 2)):.2f}% |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--split", nargs="+", default=list(SPLITS), choices=list(SPLITS))
@@ -103,9 +122,16 @@ def main():
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--worst", type=int, default=10)
     ap.add_argument("--single", action="store_true", help="the first order against the reference quadrature")
+    ap.add_argument("--conditions", action="store_true",
+                    help="also the daylight errors grouped by planetviz.tables.validated's conditions")
     args = ap.parse_args()
+    results = []
     for split in args.split:
-        report(split, compare(split, args), args.worst)
+        results.append(compare(split, args))
+        report(split, results[-1], args.worst)
+    if args.conditions:
+        report_conditions(results, {name: atm for split in args.split
+                                    for name, atm, _ in cases(split, args.atmospheres, args.presets)})
 
 
 if __name__ == "__main__":

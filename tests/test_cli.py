@@ -107,3 +107,24 @@ def test_sky_command_main_job():
     lines = [line for line in proc.stdout.splitlines() if "zenith" in line]
     values = [float(x) for x in lines[0].split()[3:12:3]]     # after the name and "elevation, azimuth"
     assert values[2] > values[0]   # the noon-ish zenith is bluer (440 nm) than red (680 nm)
+
+
+def test_precompute_warns_outside_the_validated_range(tmp_path, monkeypatch):
+    # Mars's dust puts over 97% of the scattering in a g = 0.86-0.91 forward lobe: the warning names that
+    # condition and the error measured on such atmospheres; the Earth preset is inside the range and gets none.
+    # The conditions themselves, on atmospheres built to meet exactly one each.
+    from planetviz.tables.validated import CONDITIONS, outside_validated_range
+    monkeypatch.setenv("PLANETVIZ_CACHE", str(tmp_path))
+    mars = run("precompute", "--atmosphere", "mars", "--quality", "draft")
+    earth = run("precompute", "--atmosphere", "earth", "--quality", "draft")
+    assert mars.returncode == 0 and earth.returncode == 0, (mars.stderr, earth.stderr)
+    assert "warning: mars: the particles' strongest forward lobe g 0.911 is above 0.7" in mars.stderr
+    assert "draft tables were validated for" in mars.stderr and "RMS" in mars.stderr
+    assert "warning" not in earth.stderr
+    data = EARTH.to_dict()
+    thick = {**data, "rayleigh": {**data["rayleigh"], "scattering_m": [3e-4, 3e-4, 3e-4]}}
+    large = {**data, "bottom_radius_m": 2e8, "top_radius_m": 2e8 + 6e4}
+    names = {key: [c.name for c in outside_validated_range(type(EARTH).from_dict(d))]
+             for key, d in (("thick", thick), ("large", large))}
+    assert names == {"thick": ["optically thick"], "large": ["large planet"]}
+    assert [c.name for c in CONDITIONS] == ["optically thick", "forward lobe", "large planet"]

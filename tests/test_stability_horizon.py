@@ -81,10 +81,10 @@ def test_twilight_rays_next_to_the_horizon_match_the_reference(quality, bound):
     # Rays 1e-6 to 1e-2 (in mu) either side of the horizon's direction from 2 m to 30 km, the sun 1, 3 and 5 deg
     # below the horizon: the twilight glow. tables/horizon.py integrates them along the ray, each lit part on its
     # own. The relative error of the rays brighter than 1% of the brightest at that sun, largest over the altitudes
-    # (sun 1 / 3 / 5 deg down), measured: draft 2.55% / 2.05% / 1.74% (300 m), standard 0.63% / 0.69% / 0.44%.
-    # Read from the tables, as before horizon.py: draft 28-960%, standard 4-41% (they interpolate between rays
-    # whose lit parts differ most there). Bounds: 1.6x and 2.2x the measured largest, far below the tables'
-    # readings.
+    # (sun 1 / 3 / 5 deg down), measured: draft 2.24% / 1.99% / 1.95% (300 m), standard 0.33% / 0.33% / 0.32%
+    # (1 km). Read from the tables, without horizon.py: draft 28-960%, standard 4-41% (they interpolate between
+    # rays whose lit parts differ most there). Bounds 4% and 1.5%: below the smallest of the tables' readings by
+    # 7x and 2.7x, so that falling back to them fails.
     tables = single_scattering_only(_tables(quality))
     for alt in (2.0, 300.0, 1e3, 1e4, 3e4):
         mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
@@ -102,9 +102,9 @@ def test_the_horizon_quadrature_blends_into_the_tables_without_a_step(monkeypatc
     # tables/horizon.py's quadrature replaces the tables' single scattering within HORIZON_BAND[0] (in mu) of the
     # horizon's direction and hands over to them by a smoothstep up to HORIZON_BAND[1]. The radiance (draft tables,
     # all orders) of rays 2e-7 apart, at both ends of the band and at 24 more places across it on either side of
-    # the horizon, must agree within 1e-4; measured: at most 8.1e-6 (30 km, the sun 10 deg up). At each altitude
-    # the quadrature and the tables differ by more than 3e-3 at the band's inner ends (measured: 2 m 0.34%, 1 km
-    # 0.67%, 30 km 19%), so a step would show.
+    # the horizon, must agree within 1e-4; measured: at most 8.7e-6 (30 km, the sun 10 deg up). At each altitude
+    # the quadrature and the tables differ by more than 3e-3 at the band's inner ends (measured: 2 m 0.48%, 1 km
+    # 0.68%, 30 km 19%), so a step would show.
     evaluator = importlib.import_module("planetviz.tables.evaluator")
     from planetviz.tables.horizon import HORIZON_BAND
     inner, outer = HORIZON_BAND
@@ -220,18 +220,17 @@ def test_no_seam_at_the_horizon_beyond_the_tables_interpolation_error(quality, a
     # ground and sky halves, against rays at least 0.05 away from it: the error there (single scattering against
     # the reference quadrature) is the tables' own interpolation error; next to the horizon it may not be
     # larger. Slack 25%: the largest of ~100 errors is itself a sample statistic that moves by that much between
-    # sets of rays. The rays next to the horizon are integrated along the ray (tables/horizon.py). Measured (near
-    # below / near above / away), draft: 2 m 0.38% / 0.38% / 1.75%, 100 m 0.57% / 1.00% / 3.67%, 300 m 0.42% /
-    # 1.02% / 1.49% (0.68x, the largest ratio), 1 km 0.86% / 0.89% / 1.43%, 3 km 0.52% / 0.54% / 4.42%, 7 km 0.32%
-    # / 0.24% / 2.29%, 10 km 0.24% / 0.23% / 2.13%, 20 km 0.12% / 0.20% / 3.09%, 30 km 0.14% / 0.27% / 5.44%, 50 km
-    # 0.14% / 0.85% / 12.7%; standard (8x48x128x32): 2 m 0.13% / 0.12% / 0.58%, 100 m 0.18% / 0.13% / 0.65%,
-    # 300 m 0.15% / 0.15% / 0.40%, 1 km 0.15% / 0.16% / 0.32% (0.50x), 3 km 0.11% / 0.16% / 0.41%, 7 km 0.05% /
-    # 0.07% / 0.38%, 10 km 0.05% / 0.05% / 0.50%, 20 km 0.03% / 0.13% / 0.53%, 30 km 0.04% / 0.18% / 0.56%, 50 km
-    # 0.06% / 0.96% / 2.44%. Read from the tables alone (without tables/horizon.py) the draft tables fail 2 m (2.5%
-    # next to the horizon against 1.75% elsewhere), 300 m (2.3% / 1.5%), 1 km (1.9% / 1.4%), 20 km (4.4% / 3.1%) and
-    # 30 km (6.9% / 5.4%): their coarse mu_s, r and nu axes, where single scattering changes fastest. The rays next
-    # to the horizon must also be within 1.5% outright: at 50 km the rest of the sky's 2.44% (standard; 12.7% draft,
-    # its 16 r rows) would let a seam of 3% (15%) pass the ratio.
+    # sets of rays. The rays next to the horizon are integrated along the ray (tables/horizon.py). Measured (near /
+    # away), draft: 2 m 0.80% / 1.72%, 100 m 0.93% / 3.08%, 300 m 0.97% / 1.49% (0.66x, the largest ratio), 1 km
+    # 0.92% / 1.44%, 3 km 0.49% / 3.54%, 7 km 0.32% / 2.33%, 10 km 0.23% / 2.16%, 20 km 0.19% / 1.92%, 30 km 0.23% /
+    # 6.03%, 50 km 0.22% / 3.10%; standard (8x48x128x32): 2 m 0.25% / 0.49%, 100 m 0.21% / 0.56%, 300 m 0.15% /
+    # 0.36%, 1 km 0.19% / 0.21% (0.87x), 3 km 0.10% / 0.42%, 7 km 0.07% / 0.39%, 10 km 0.06% / 0.54%, 20 km 0.05% /
+    # 0.53%, 30 km 0.05% / 0.56%, 50 km 0.17% / 0.68%. Read from the tables alone (without tables/horizon.py) the
+    # draft tables fail 2 m (2.7% next to the horizon), 300 m (2.3%), 1 km (1.8%), 20 km (4.3%), 30 km (6.9%) and
+    # 50 km (15%), and the standard tables 50 km (0.88% against 0.68%): their coarse mu_s, r and nu axes, where
+    # single scattering changes fastest; so did the quadrature with 8 nodes per side at 50 km (0.95%). The rays
+    # next to the horizon must also be within 1.5% outright, so that a sky read poorly elsewhere cannot hide a
+    # seam.
     tables = _tables(quality)
     mu_h = -np.sqrt(1 - (R / (R + alt)) ** 2)
     d = np.logspace(-6, -2, 9)

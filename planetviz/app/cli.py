@@ -179,7 +179,10 @@ class _ProgressBar:
 
 def _cmd_precompute(args) -> int:
     from ..tables.precompute import QUALITY, precompute
+    from ..tables.validated import outside_validated_range
     atm = load_atmosphere(args.atmosphere)
+    for condition in outside_validated_range(atm):
+        print(f"warning: {condition.message(atm, args.quality)}", file=sys.stderr)
     bar = _ProgressBar(sys.stdout)
     cache = _table_cache(args)
     tables = precompute(atm, QUALITY[args.quality], progress=bar, cache=cache)

@@ -12,13 +12,14 @@ tables read the rays within 1e-2 (in mu) of the horizon's direction 1.3-2.0x as 
 How. Rays within ``HORIZON_BAND[1]`` of the horizon's direction mu_h = -sqrt(1 - (R_b / r)^2) integrate their
 single scattering as the precompute does (precompute.single_scattering_integral, with the tables'
 transmittances), on the two lit parts of the ray around the planet's shadow (near_ground.shadow_interval), with
-``HORIZON_SAMPLES`` Gauss-Legendre nodes on each side of each part's closest approach (nodes.ray_nodes): 32
+``HORIZON_SAMPLES`` Gauss-Legendre nodes on each side of each part's closest approach (nodes.ray_nodes): 48
 nodes at most. The result replaces the tables' reading within ``HORIZON_BAND[0]`` and blends into it by a
 smoothstep up to ``HORIZON_BAND[1]`` (:func:`horizon_share`), so the radiance stays continuous where the band
 ends. Against the reference quadrature (Earth, the seam test's rays from 2 m to 50 km, the sun 5-60 deg up): next
-to the horizon within 0.12-1.02% (draft) and 0.03-0.96% (standard); in twilight at most 2.55% and 0.69%
-(tests/test_stability.py). With 6 nodes per side the rays from 30-50 km read 2-10% off (the sunlight along them
-fades within a few nodes' spacing where the sun sets for the points far along the ray), with 10 0.42% at 50 km.
+to the horizon within 0.19-0.97% (draft) and 0.05-0.25% (standard), where the rest of the sky reads 1.4-6.0% and
+0.21-0.68% (tests/test_stability_horizon.py). The sunlight along these rays fades within a few nodes' spacing
+where the sun sets for the points far along them: from 50 km, with 6 nodes per side they read 2-10% off, with 8
+0.95%, 10 0.41%, 12 0.17% (standard tables).
 Ground rays from below near_ground.NEAR_GROUND_ROWS keep near_ground.py's rule.
 """
 from __future__ import annotations
@@ -33,7 +34,7 @@ from .precompute import single_scattering_integral
 #: |mu - mu_h| within which the quadrature replaces the tables, and where its share has fallen to 0.
 HORIZON_BAND = (0.01, 0.03)
 #: Gauss-Legendre nodes on each side of the closest approach, on each of the two lit parts of the ray.
-HORIZON_SAMPLES = 8
+HORIZON_SAMPLES = 12
 
 
 def horizon_quadrature_applies(atm) -> bool:
