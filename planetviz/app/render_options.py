@@ -104,14 +104,21 @@ class _Bar:
         sys.stdout.flush()
 
 
-def set_view(scene, args, altitude=None):
-    if args.view == "space" and altitude is None:
-        scene.view_from_space(distance=args.distance, latitude=args.latitude, longitude=args.longitude,
-                              fov=args.fov or 30.0)
-    else:
-        scene.view_from_ground(latitude=args.latitude, longitude=args.longitude,
-                               altitude=args.altitude if altitude is None else altitude,
-                               heading=args.heading, pitch=args.pitch, fov=args.fov or 60.0)
+def view_keywords(args) -> dict:
+    """The camera ``args`` ask for: ``kind`` ("space" or "ground") and the keywords of ``Scene.view_from_space`` or
+    ``Scene.view_from_ground``."""
+    site = dict(latitude=args.latitude, longitude=args.longitude)
+    if args.view == "space":
+        return dict(kind="space", distance=args.distance, fov=args.fov or 30.0, **site)
+    return dict(kind="ground", altitude=args.altitude, heading=args.heading, pitch=args.pitch, fov=args.fov or 60.0,
+                **site)
+
+
+def set_view(scene, view):
+    """Place ``scene``'s camera as :func:`view_keywords` describes it."""
+    view = dict(view)
+    kind = view.pop("kind")
+    (scene.view_from_space if kind == "space" else scene.view_from_ground)(**view)
 
 
 def _frame(scene, args):
@@ -155,7 +162,7 @@ def run_render(args) -> int:
                   off_screen=True, method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
                   quick_terms=args.terms)
     try:
-        set_view(scene, args)
+        set_view(scene, view_keywords(args))
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth, latitude=args.latitude,
                       longitude=args.longitude)
         _frame(scene, args)

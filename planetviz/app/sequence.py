@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .render_options import set_view, view_keywords
+
 
 @dataclass(frozen=True)
 class SceneSettings:
@@ -63,11 +65,7 @@ def sequence_frames(args, bottom_radius, times=None):
     """The frames of ``args``' sequence (``--time-lapse`` at ``times``, ``--sweep-sun`` or ``--flight``), each
     with the camera of ``args`` and the sun it asks for."""
     site = dict(latitude=args.latitude, longitude=args.longitude)
-    if args.view == "space":
-        view = dict(kind="space", distance=args.distance, fov=args.fov or 30.0, **site)
-    else:
-        view = dict(kind="ground", altitude=args.altitude, heading=args.heading, pitch=args.pitch,
-                    fov=args.fov or 60.0, **site)
+    view = view_keywords(args)
     sun = dict(elevation=args.sun_elevation, azimuth=args.sun_azimuth, **site)
     views, suns = [], []
     if times:
@@ -119,9 +117,7 @@ def close_scenes():
 def render_frame(settings, frame):
     """Render ``frame`` with this process's scene and write its outputs, each under a temporary name first."""
     scene = _scene(settings)
-    view = dict(frame.view)
-    kind = view.pop("kind")
-    (scene.view_from_space if kind == "space" else scene.view_from_ground)(**view)
+    set_view(scene, frame.view)
     scene.set_sun(**frame.sun)
     for out in frame.outputs:
         path = Path(out)
