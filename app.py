@@ -25,7 +25,8 @@ def main(argv=None):
         from planetviz.render import Scene
         place_site_and_sun(args)
         scene = Scene(args.atmosphere, quality=args.quality, window_size=args.size, method=args.method,
-                      shading=args.shading or "auto", exposure=args.exposure, tone_mapping=args.tone_mapping)
+                      shading=args.shading or "auto", exposure=args.exposure, tone_mapping=args.tone_mapping,
+                      tables=args.tables)
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth)
         site = (args.latitude, args.longitude) if args.site else SITE
         run(scene, mode=args.mode, atmosphere_file=args.atmosphere if Path(args.atmosphere).is_file() else None,

@@ -7,11 +7,11 @@
                          [--sun-elevation DEG] [--sun-azimuth DEG] [--elevations DEG ...] [--azimuths DEG ...]
     planetviz radiance   --atmosphere A --queries Q.npz --out OUT.npz
                          [--method reference|tables|quick] [--quality draft|standard|high] [--no-cache]
-                         [--samples N]
+                         [--samples N] [--tables 4d|compact]
     planetviz sun        --site LAT,LON --time ISO8601|now [--json]
     planetviz render     [--atmosphere|--preset A] [--view space|ground] [--sun-elevation DEG] [--sun-azimuth DEG]
                          [--site LAT,LON --time ISO8601] [--size WxH] [--screenshot OUT.png] [--exr OUT.exr]
-                         [--quality Q] [--method tables|quick] [--samples N]
+                         [--quality Q] [--method tables|quick] [--tables 4d|compact] [--samples N]
                          [--sweep-sun A B STEP | --time-lapse START STOP STEP | --flight N]
                          [--fisheye DOME.png|.exr] [--panorama SKY.exr]   (planetviz/app/render_options.py)
 
@@ -30,6 +30,7 @@ import numpy as np
 from ..model.geometry import EYE_HEIGHT_M
 from ..model.presets import PRESETS, load_atmosphere
 from ..reference.montecarlo import QUALITY_SAMPLES as REFERENCE_SAMPLES
+from ..tables.compact import TABLE_KINDS
 from .render_options import add_render_options, run_render
 
 
@@ -69,13 +70,14 @@ def _table_cache(args):
     return None if args.no_cache else TableCache()
 
 
-def _solve(atm, queries, method, quality, samples, seed, cache=None):
+def _solve(atm, queries, method, quality, samples, seed, cache=None, tables="4d"):
     if method == "tables":
         from ..reference import ReferenceResult
+        from ..tables.compact import tables_of_kind
         from ..tables.evaluator import sky_radiance
         from ..tables.precompute import QUALITY, precompute
-        radiance, transmittance = sky_radiance(precompute(atm, QUALITY[quality], cache=cache), atm,
-                                               queries.camera_m, queries.view_dir, queries.sun_dir)
+        read = tables_of_kind(precompute(atm, QUALITY[quality], cache=cache), atm, tables)
+        radiance, transmittance = sky_radiance(read, atm, queries.camera_m, queries.view_dir, queries.sun_dir)
         return ReferenceResult(radiance, np.zeros_like(radiance), transmittance, 0)
     if method == "quick":
         from ..quick_view.single_scattering import quick_view_radiance
@@ -93,8 +95,10 @@ def _cmd_radiance(args) -> int:
     from ..model.queries import load_queries
     atm = load_atmosphere(args.atmosphere)
     queries = load_queries(args.queries, atm.bottom_radius_m)
+    if args.tables != "4d" and args.method != "tables":
+        raise ValueError(f"tables: {args.tables} tables are read with --method tables, not {args.method}")
     result = _solve(atm, queries, args.method, args.quality, args.samples, args.seed,
-                    cache=_table_cache(args) if args.method == "tables" else None)
+                    cache=_table_cache(args) if args.method == "tables" else None, tables=args.tables)
     extra = {"radiance_stderr": result.stderr} if args.method == "reference" else {}
     np.savez(args.out, radiance=result.radiance, transmittance=result.transmittance,
              wavelengths_nm=np.asarray(atm.wavelengths_nm, dtype=float), **extra)
@@ -249,6 +253,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--queries", required=True, help="npz with camera_m, view_dir, sun_dir")
     p.add_argument("--out", required=True, help="output npz (radiance, transmittance, wavelengths_nm)")
     p.add_argument("--method", choices=("reference", "tables", "quick"), default="reference")
+    p.add_argument("--tables", choices=TABLE_KINDS, default="4d",
+                   help="tables: the 4D tables or the compact ones made from them (docs/benchmarks.md)")
     p.add_argument("--quality", choices=("draft", "standard", "high"), default="standard")
     p.add_argument("--samples", type=int, default=None,
                    help="reference: paths per ray (overrides --quality); quick: points per path (default 8)")

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..model.geometry import EYE_HEIGHT_M
 from ..model.presets import PRESETS
+from ..tables.compact import TABLE_KINDS
 
 
 def _size(text):
@@ -57,6 +58,8 @@ def add_render_options(p):
     p.add_argument("--exposure", type=float, default=1e-4, help="multiplies linear sRGB in cd/m^2")
     p.add_argument("--tone-mapping", choices=("exponential", "filmic", "clamp"), default="exponential")
     p.add_argument("--uniform-albedo", action="store_true", help="the atmosphere's ground albedo, no texture")
+    p.add_argument("--tables", choices=TABLE_KINDS, default="4d",
+                   help="tables drawn: 4d, or compact (a third of the GPU memory, less accurate: docs/benchmarks.md)")
     p.add_argument("--method", choices=("tables", "quick"), default="tables",
                    help="tables (all orders) or the quick view (single scattering, no precompute)")
     p.add_argument("--shading", choices=("pixel", "vertex", "auto"), default=None,
@@ -160,7 +163,7 @@ def run_render(args) -> int:
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
                   off_screen=True, method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
-                  quick_terms=args.terms)
+                  quick_terms=args.terms, tables=args.tables)
     try:
         set_view(scene, view_keywords(args))
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth, latitude=args.latitude,
@@ -184,7 +187,7 @@ def _run_sequence(args, times):
     settings = SceneSettings(atm.to_json(), quality=args.quality, surface=None if args.uniform_albedo else "texture",
                              exposure=args.exposure, tone_mapping=args.tone_mapping, size=tuple(args.size),
                              method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
-                             quick_terms=args.terms)
+                             quick_terms=args.terms, tables=args.tables)
     frames = sequence_frames(args, atm.bottom_radius_m, times)
     bar = _Bar(len(frames), "time-lapse" if times else "sun sweep" if args.sweep_sun else "flight")
     rendered = run_sequence(settings, frames, workers=args.workers, scheduler=args.scheduler,

@@ -42,6 +42,7 @@ class SceneSettings:
     shading: str = "pixel"
     quick_samples: int = 8
     quick_terms: str = "physical"
+    tables: str = "4d"
 
 
 @dataclass(frozen=True)
@@ -104,7 +105,8 @@ def _scene(settings):
                                   surface=settings.surface, exposure=settings.exposure,
                                   tone_mapping=settings.tone_mapping, window_size=settings.size, off_screen=True,
                                   method=settings.method, shading=settings.shading,
-                                  quick_samples=settings.quick_samples, quick_terms=settings.quick_terms)
+                                  quick_samples=settings.quick_samples, quick_terms=settings.quick_terms,
+                                  tables=settings.tables)
     return _SCENES[settings]
 
 

@@ -21,6 +21,7 @@ from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
 from ..model.color import albedo_matrix
+from ..tables.compact import CompactTables
 from ..tables.horizon import horizon_quadrature_applies
 from ..tables.near_ground import near_ground_altitude
 from ..tables.parameterization import MU_S_MIN
@@ -30,9 +31,11 @@ from .textures import MAX_GROUPS, group_count, pack_2d, pack_3d, pad_groups, upl
 from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camera_uniforms, draw_uniforms,
                        frame_key, groups_array)
 
-#: The GLSL both table-based actors share, in order (each file declares what the later ones use).
+#: The GLSL both table-based actors share, in order (each file declares what the later ones use): for the 4D
+#: tables, and for the compact tables (planetviz/tables/compact.py), read without the quadratures along rays.
 TABLE_SHADERS = ("common.glsl", "table_lookup.glsl", "near_ground.glsl", "horizon.glsl", "phased_scattering.glsl",
                  "atmosphere_ray.glsl")
+COMPACT_TABLE_SHADERS = ("common.glsl", "table_lookup.glsl", "compact_scattering.glsl", "atmosphere_ray.glsl")
 
 
 #: Altitudes at which the shaders get the density profiles (density_texture, read by density_at in GLSL).
@@ -64,7 +67,9 @@ def density_image(atm, n=DENSITY_TABLE):
 
 class TableTextures:
     """The precomputed tables (and the surface texture) as GPU textures, with the uniforms that describe them:
-    what the per-pixel and the per-vertex actors share.
+    what the per-pixel and the per-vertex actors share. ``tables``: the 4D set (:class:`~planetviz.tables.Tables`)
+    or the compact one (:class:`~planetviz.tables.compact.CompactTables`); :attr:`shaders` lists the GLSL that
+    reads it.
 
     ``surface``: an (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the
     atmosphere file's uniform ``ground_albedo``. ``half_float``: 16-bit float tables (only for measuring what that
@@ -72,6 +77,8 @@ class TableTextures:
 
     def __init__(self, atmosphere, tables, surface=None, half_float=False):
         self.atmosphere, self.tables, self.surface, self.half_float = atmosphere, tables, surface, half_float
+        self.compact = isinstance(tables, CompactTables)
+        self.shaders = COMPACT_TABLE_SHADERS if self.compact else TABLE_SHADERS
         self._textures = None
 
     def static_uniforms(self):
@@ -81,17 +88,19 @@ class TableTextures:
         alb_w[:G] = np.moveaxis(pad_groups(albedo_matrix(atm.wavelengths_nm)), 0, 1)   # (3, W) -> (G, 3, 4)
         n_r_t, n_mu_t = t.optical_depth.shape[:2]
         n_r_e, n_mu_s_e = t.irradiance.shape[:2]
-        s1, sm = t.rayleigh.shape, t.multiple.shape
-        return {
+        shared = {
             **atmosphere_uniforms(atm), "mu_s_min": ("f", MU_S_MIN),
             "transmittance_size": ("2f", (n_mu_t, n_r_t)), "irradiance_size": ("2f", (n_mu_s_e, n_r_e)),
-            "single_size": ("4f", (s1[2], s1[3], s1[1], s1[0])),
-            "multiple_size": ("4f", (sm[2], sm[3], sm[1], sm[0])),
             "albedo_weights": ("4fv", alb_w.reshape(-1, 4)),
             "use_surface_texture": ("i", int(self.surface is not None)),
             "surface_face_size": ("f", self._cube().shape[1] - 2),
-            **ray_quadrature_uniforms(atm, t),
         }
+        if self.compact:
+            n_h, n_mu, n_mu_s = t.rayleigh.shape[:3]
+            return {**shared, "compact_size": ("3f", (n_mu_s, n_mu, n_h))}
+        s1, sm = t.rayleigh.shape, t.multiple.shape
+        return {**shared, "single_size": ("4f", (s1[2], s1[3], s1[1], s1[0])),
+                "multiple_size": ("4f", (sm[2], sm[3], sm[1], sm[0])), **ray_quadrature_uniforms(atm, t)}
 
     def _cube(self):
         """The surface map on the faces of a cube (planetviz/render/surface.py), or a black 1-texel cube."""
@@ -105,12 +114,19 @@ class TableTextures:
             t, half = self.tables, self.half_float
             self._textures = {
                 "optical_depth_texture": upload(render_window, pack_2d(t.optical_depth), half_float=half),
-                "irradiance_texture": upload(render_window, pack_2d(t.irradiance), half_float=half),
-                "single_rayleigh_texture": upload(render_window, pack_3d(t.rayleigh), half_float=half),
-                "single_mie_texture": upload(render_window, pack_3d(t.mie), half_float=half),
-                "multiple_texture": upload(render_window, pack_3d(t.multiple), half_float=half),
-                "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half),
-                "density_texture": upload(render_window, density_image(self.atmosphere))}
+                "irradiance_texture": upload(render_window, pack_2d(t.irradiance), half_float=half)}
+            if self.compact:                # (n_h, n_mu, n_mu_s, W) as a 4D table of one nu slice
+                self._textures.update({
+                    f"compact_{name}_texture": upload(render_window, pack_3d(getattr(t, name)[:, :, None]),
+                                                      half_float=half)
+                    for name in ("rayleigh", "mie", "multiple")})
+            else:
+                self._textures.update({
+                    "single_rayleigh_texture": upload(render_window, pack_3d(t.rayleigh), half_float=half),
+                    "single_mie_texture": upload(render_window, pack_3d(t.mie), half_float=half),
+                    "multiple_texture": upload(render_window, pack_3d(t.multiple), half_float=half),
+                    "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half),
+                    "density_texture": upload(render_window, density_image(self.atmosphere))})
             self._textures["surface_faces"] = upload(render_window, self._cube(), srgb=True, layers=True)
         for name, tex in self._textures.items():
             tex.Activate()
@@ -156,7 +172,7 @@ class AtmosphereActor:
         self.actor.SetMapper(self.mapper)
         self.actor.GetProperty().FrontfaceCullingOn()
         sp = self.actor.GetShaderProperty()
-        code = shader_code(*TABLE_SHADERS, "display.glsl", "pixel.glsl", "atmosphere_fragment.glsl")
+        code = shader_code(*self.textures.shaders, "display.glsl", "pixel.glsl", "atmosphere_fragment.glsl")
         # The shell's depth means nothing (each fragment traces its ray), but computed from float32 vertices at
         # 6.4e6 m with a near plane centimetres away it can land beyond the far plane and drop the whole view:
         # drawn at mid-depth, as the direction mesh is.

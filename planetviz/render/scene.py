@@ -19,6 +19,7 @@ from ..model.presets import load_atmosphere
 from ..model.color import linear_srgb
 from ..model.optics.light import star_irradiance
 from ..tables.cache import TableCache, parameters_hash, stage_parameters
+from ..tables.compact import TABLE_KINDS, tables_of_kind
 from ..tables.precompute import QUALITY, precompute
 from .atmosphere_actor import AtmosphereActor
 from .quick_view_actor import QuickViewActor
@@ -98,6 +99,10 @@ class Scene(pv.Plotter):
         ``"pixel"``; decided after the first frame).
     quick_samples, quick_terms : int, str
         The quick view's points per path and terms (``"physical"`` or Keller and Bohn's ``"artistic"``).
+    tables : str
+        Which tables are drawn: ``"4d"`` (the precomputed 4D tables) or ``"compact"`` (Atmosphere Plus's 3D tables
+        made from them, for machines short of GPU memory: a third of the memory, without the sun-view azimuth
+        and the quadratures along rays; their error in docs/benchmarks.md).
 
     Examples
     --------
@@ -111,7 +116,7 @@ class Scene(pv.Plotter):
 
     def __init__(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
                  tone_mapping="exponential", window_size=(960, 540), cache=True, method="tables",
-                 shading="pixel", quick_samples=8, quick_terms="physical", **kwargs):
+                 shading="pixel", quick_samples=8, quick_terms="physical", tables="4d", **kwargs):
         self._job = None                      # a background precompute (render() may run inside __init__)
         self._auto_shading = False
         self.gl_renderer = None               # the OpenGL renderer string, known after the first frame
@@ -125,6 +130,10 @@ class Scene(pv.Plotter):
             raise ValueError(f"exposure: a positive finite number, got {exposure!r}")
         if shading not in (*SHADINGS, "auto"):
             raise ValueError(f"shading: one of {', '.join(SHADINGS)}, auto, got {shading!r}")
+        if tables not in TABLE_KINDS:
+            raise ValueError(f"tables: one of {', '.join(TABLE_KINDS)}, got {tables!r}")
+        self._table_kind = tables
+        self._tables = None                   # the 4D tables of the planet shown
         self.settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
         self._shading = "vertex" if shading == "auto" else shading
         self._auto_shading = shading == "auto"
@@ -181,9 +190,22 @@ class Scene(pv.Plotter):
             raise ValueError(f"shading: one of {', '.join(SHADINGS)}, got {shading!r}")
         self._shading = shading
         if self.planet is not None:
-            tables = self.planet.tables
             self._drop_actors()
-            self._show_tables(tables)
+            self._show_tables(self._tables)
+
+    @property
+    def table_kind(self):
+        """Which tables are drawn: ``"4d"`` or ``"compact"``."""
+        return self._table_kind
+
+    def set_table_kind(self, kind):
+        """Draw the 4D tables (``"4d"``) or their compact tables (``"compact"``)."""
+        if kind not in TABLE_KINDS:
+            raise ValueError(f"tables: one of {', '.join(TABLE_KINDS)}, got {kind!r}")
+        self._table_kind = kind
+        if self.planet is not None:
+            self._drop_actors()
+            self._show_tables(self._tables)
 
     def set_method(self, method):
         """Show the tables (``"tables"``) or the quick view (``"quick"``) of the current planet."""
@@ -206,10 +228,9 @@ class Scene(pv.Plotter):
         same = not force and (parameters_hash(stage_parameters(old, sizes)["multiple_scattering"])
                               == parameters_hash(stage_parameters(atm, sizes)["multiple_scattering"]))
         if same:                              # e.g. only the star or the name changed: the tables stay
-            tables = self.planet.tables if self.planet is not None else None
-            if tables is not None:
+            if self.planet is not None:
                 self._drop_actors()
-                self._show_tables(tables)
+                self._show_tables(self._tables)
                 return
         cache = TableCache() if self._cache else None
         if wait:
@@ -265,7 +286,9 @@ class Scene(pv.Plotter):
         self._collect_tables()
 
     def _show_tables(self, tables):
-        self.planet = SHADINGS[self._shading](self._atmosphere, tables, self.renderer, surface=self._surface,
+        self._tables = tables
+        drawn = tables_of_kind(tables, self._atmosphere, self._table_kind)
+        self.planet = SHADINGS[self._shading](self._atmosphere, drawn, self.renderer, surface=self._surface,
                                               settings=self.settings)
         self.planet.sun_direction = self._sun
         self.add_actor(self.planet.actor, reset_camera=False, name="planet")

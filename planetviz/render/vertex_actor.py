@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
-from .atmosphere_actor import TABLE_SHADERS, TableTextures
+from .atmosphere_actor import TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from .uniforms import draw_uniforms
@@ -25,9 +25,9 @@ class VertexAtmosphereActor(DirectionMeshActor):
     def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, half_float_tables=False):
         self.tables = tables
         self.textures = TableTextures(atmosphere, tables, surface, half_float_tables)
-        super().__init__(atmosphere, renderer, shader_code(*TABLE_SHADERS, "atmosphere_vertex.glsl"),
-                         "atmosphere_vertex",
-                         shader_code(*TABLE_SHADERS, "display.glsl", "pixel.glsl", "atmosphere_interpolated.glsl"),
+        shaders = self.textures.shaders
+        super().__init__(atmosphere, renderer, shader_code(*shaders, "atmosphere_vertex.glsl"), "atmosphere_vertex",
+                         shader_code(*shaders, "display.glsl", "pixel.glsl", "atmosphere_interpolated.glsl"),
                          "atmosphere_interpolated", split_at_limb=True, settings=settings)
         self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.textures.deactivate()))
 

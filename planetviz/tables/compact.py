@@ -28,6 +28,10 @@ from .sampling import texture3d
 
 #: (n_h, n_mu, n_mu_s) of the compact table.
 COMPACT_SIZE = (32, 128, 32)
+#: The table sets the renderer and ``planetviz radiance`` read: the 4D tables, or the compact tables made from them
+#: (a third of their memory on the GPU, no quadratures along rays; their error against the 4D set:
+#: docs/benchmarks.md).
+TABLE_KINDS = ("4d", "compact")
 
 
 def compact_x_from_cosine(c):
@@ -91,3 +95,10 @@ def get_compact_scattering(ct: CompactTables, table, r, mu, mu_s):
     """Trilinear read of a compact table (n_h, n_mu, n_mu_s, W) at (r, mu, mu_s), as the shader's texture()."""
     u, v, w = compact_uvw_from_r_mu_mu_s(r, mu, mu_s, ct.bottom, ct.top, table.shape[:3])
     return texture3d(table, u, v, w)
+
+
+def tables_of_kind(tables, atm, kind: str):
+    """The 4D ``tables`` as ``kind`` (one of :data:`TABLE_KINDS`) reads them: themselves, or their compact tables."""
+    if kind not in TABLE_KINDS:
+        raise ValueError(f"tables: one of {', '.join(TABLE_KINDS)}, got {kind!r}")
+    return tables if kind == "4d" else compact_tables(tables, atm)
