@@ -202,3 +202,23 @@ def app():
 
 test_generated_app_input = app_sequences(10)
 test_generated_app_input_long = pytest.mark.slow(app_sequences(60))
+
+
+def test_a_sequence_writes_a_tilted_dome_master_per_frame_and_resumes(tmp_path):
+    import OpenEXR
+    args = ("--quality", "draft", "--view", "ground", "--size", "48x32", "--sweep-sun", "-2", "2", "4",
+            "--fisheye", "dome/sky.exr", "--fisheye-size", "48", "--fisheye-tilt", "30", "--heading", "90")
+    proc = run_app(*args, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert sorted(p.name for p in (tmp_path / "dome").iterdir()) == ["sky.manifest.json", "sky_0000.exr",
+                                                                     "sky_0001.exr"]
+    for name in ("sky_0000.exr", "sky_0001.exr"):
+        with OpenEXR.File(str(tmp_path / "dome" / name), separate_channels=True) as f:
+            dome = f.channels()["G"].pixels
+            projection = json.loads(f.header()["planetviz"])["projection"]
+        assert dome.shape == (48, 48) and dome[24, 24] > 0 and dome[0, 0] == 0
+        assert "60 deg above the horizon at heading 90 deg" in projection
+    again = run_app(*args, cwd=tmp_path)
+    assert again.returncode == 0 and "0 frames rendered, 2 already there" in again.stdout
+    bad = run_app(*args[:-4], "--fisheye-tilt", "120", cwd=tmp_path)
+    assert bad.returncode == 2 and "fisheye-tilt: 0 to 90 deg, got 120" in bad.stderr

@@ -3,6 +3,7 @@ along the same directions (planetviz/tables/panorama.py)."""
 import numpy as np
 import pytest
 
+from planetviz.app.sky_images import SkyImage
 from planetviz.model.geometry import local_frame, site_of
 from planetviz.render import Scene
 from planetviz.render.cube_faces import render_cube, render_directions, sample_cube
@@ -65,3 +66,32 @@ def test_no_seam_where_the_faces_meet(earth):
     rel, away = relative_errors(earth, dirs[edge], sample_cube(faces, bases, dirs[edge]))
     assert edge.sum() > 1000
     assert np.sqrt(np.mean(rel[away] ** 2)) < 0.01
+
+
+@pytest.mark.parametrize("tilt", [0.0, 25.0, 90.0])
+def test_a_tilted_dome_master_points_its_centre_and_edges_where_the_tilt_says(tilt):
+    # The dome's centre is turned from the zenith toward the heading: it looks 90 - tilt deg above the horizon at
+    # the heading; the middle of the image's bottom edge (90 deg from the centre toward the bottom) looks tilt deg
+    # below the horizon at the heading, the top edge's middle tilt deg above it behind; the left and right edges'
+    # middles along the horizon 90 deg right and left of the heading. Closed forms in the site's frame.
+    cam = np.array([0.0, 0.0, 6.36e6 + 2.0])                    # over the north pole: up = +z
+    heading = 30.0
+    up, east, north = local_frame(*site_of(cam))
+    h = np.cos(np.radians(heading)) * north + np.sin(np.radians(heading)) * east
+    side = -np.sin(np.radians(heading)) * north + np.cos(np.radians(heading)) * east
+    t = np.radians(tilt)
+    n = 401                                                         # an odd size: pixels at the centre lines
+    d = fisheye_directions(cam, n, heading_deg=heading, tilt_deg=tilt)
+    mid = n // 2
+    assert np.allclose(d[mid, mid], np.cos(t) * up + np.sin(t) * h, atol=1e-12)
+    edge = 1.0 - 1.0 / n                                            # the outermost pixel centre's radius
+    for pixel, angle_sign in (((n - 1, mid), 1), ((0, mid), -1)):
+        z = np.radians(90.0) * edge
+        axis = np.cos(t) * up + np.sin(t) * h
+        down = np.cos(t) * h - np.sin(t) * up
+        want = np.cos(z) * axis + angle_sign * np.sin(z) * down
+        assert np.allclose(d[pixel], want, atol=1e-12)
+    assert np.allclose(d[mid, n - 1] @ up, np.cos(np.radians(90.0) * edge) * np.cos(t), atol=1e-12)
+    assert np.allclose(d[mid, n - 1] @ side, np.sin(np.radians(90.0) * edge), atol=1e-12)
+    with pytest.raises(ValueError, match="fisheye-tilt: 0 to 90 deg"):
+        SkyImage("dome.png", "fisheye", 64, 64, tilt_deg=95.0)

@@ -7,8 +7,9 @@
     planetviz render ... --site 48.85,2.35 --time-lapse 2026-06-21T19:00Z 2026-06-21T21:00Z 10min \
                      --screenshot frames/day.png                              # the Sun of each time
     planetviz render ... --flight 120 --screenshot frames/fly.png             # orbit to the ground in 120 frames
-    planetviz render ... --fisheye dome.png [--fisheye-size 2048]              # 180 deg dome master
+    planetviz render ... --fisheye dome.png [--fisheye-size 2048] [--fisheye-tilt 25]   # 180 deg dome master
     planetviz render ... --panorama sky.exr [--panorama-size 2048x1024]        # equirectangular HDR sky
+    (with --sweep-sun, --time-lapse or --flight: a dome master and a panorama per frame, numbered)
 """
 from __future__ import annotations
 
@@ -84,6 +85,8 @@ def add_render_options(p):
                    help="batch: fly from 4 planet radii straight down to eye height (1.7 m) above the site in FRAMES frames")
     p.add_argument("--fisheye", default=None, help="180 deg dome master (PNG tone-mapped, or .exr linear)")
     p.add_argument("--fisheye-size", type=int, default=1024)
+    p.add_argument("--fisheye-tilt", type=float, default=0.0,
+                   help="dome master: its centre turned from the zenith toward --heading [deg, 0-90]")
     p.add_argument("--panorama", default=None, help="equirectangular HDR sky (OpenEXR)")
     p.add_argument("--panorama-size", type=_size, default=(2048, 1024), help="WIDTHxHEIGHT")
     p.add_argument("--sky-method", choices=("render", "numpy"), default="render",
@@ -154,7 +157,9 @@ def place_site_and_sun(args):
 def run_render(args) -> int:
     """Render what ``args`` asks for, off-screen: one picture, or a sequence (planetviz/app/sequence.py)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+    from .sky_images import sky_images, write_sky_image
     times = place_site_and_sun(args)
+    images = sky_images(args)                 # checked before anything is rendered
     if times or args.sweep_sun or args.flight:
         return _run_sequence(args, times)
     if args.workers is not None or args.scheduler is not None:
@@ -169,8 +174,9 @@ def run_render(args) -> int:
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth, latitude=args.latitude,
                       longitude=args.longitude)
         _frame(scene, args)
-        if args.fisheye or args.panorama:
-            _sky_images(scene, args)
+        for image in images:
+            write_sky_image(scene, image)
+            print(f"wrote {image.path}")
     finally:
         scene.close()
     return 0
@@ -179,8 +185,6 @@ def run_render(args) -> int:
 def _run_sequence(args, times):
     from ..model.presets import load_atmosphere
     from .sequence import SceneSettings, manifest_path, run_sequence, sequence_frames
-    if args.fisheye or args.panorama:
-        raise ValueError("fisheye, panorama: one picture, not a sequence")
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise ValueError(f"workers: 1 to 256 processes, got {args.workers}")
     atm = load_atmosphere(args.atmosphere)
@@ -195,40 +199,3 @@ def _run_sequence(args, times):
     print(f"{len(rendered)} frames rendered, {len(frames) - len(rendered)} already there; "
           f"manifest {manifest_path(frames)}")
     return 0
-
-
-def _sky_images(scene, args):
-    from ..model.color import display_colour, linear_srgb
-    from ..tables.panorama import equirectangular_directions, fisheye_directions, render_directions
-    from ..render.cube_faces import render_directions as render_cube_directions
-    from ..render.hdr import write_exr
-    from ..render.surface import write_image
-    from ..tables import QUALITY, TableCache, precompute
-    atm = scene.atmosphere
-    cam = scene.camera_location
-    jobs = []
-    if args.fisheye:
-        jobs.append((args.fisheye, fisheye_directions(cam, args.fisheye_size, heading_deg=args.heading)))
-    if args.panorama:
-        w, h = args.panorama_size
-        jobs.append((args.panorama, equirectangular_directions(cam, w, h)))
-    for path, dirs in jobs:
-        if args.sky_method == "render":
-            face = max(16, (args.fisheye_size if path == args.fisheye else args.panorama_size[0] // 2) // 2)
-            radiance = render_cube_directions(scene, dirs, face)
-        else:
-            tables = scene.planet.tables if scene.planet is not None else \
-                precompute(atm, QUALITY[args.quality], cache=TableCache())        # the quick view has none
-            radiance = render_directions(tables, atm, cam, dirs, scene.sun_direction)
-        rgb = linear_srgb(radiance, atm)
-        if str(path).lower().endswith(".exr"):
-            from ..model.optics.light import star_irradiance
-            write_exr(path, rgb, radiance * star_irradiance(atm.star, atm.wavelengths_nm), atm.wavelengths_nm,
-                      {"atmosphere": atm.name, "camera_position_m": list(map(float, cam)),
-                       "sun_direction": list(map(float, scene.sun_direction)),
-                       "projection": "fisheye 180 deg, zenith at the centre" if path == args.fisheye
-                       else "equirectangular: azimuth from north through east, elevation up"})
-        else:
-            s = scene.settings
-            write_image(path, np.round(display_colour(rgb, s.exposure, s.tone_mapping) * 255).astype(np.uint8))
-        print(f"wrote {path}")

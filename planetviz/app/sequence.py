@@ -19,12 +19,13 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from .render_options import set_view, view_keywords
+from .sky_images import sky_images, write_sky_image
 
 
 @dataclass(frozen=True)
@@ -48,12 +49,19 @@ class SceneSettings:
 @dataclass(frozen=True)
 class Frame:
     """One frame: ``view`` (``kind`` "ground" or "space" and the keywords of ``Scene.view_from_ground`` or
-    ``view_from_space``), ``sun`` (the keywords of ``Scene.set_sun``) and its output files (.png, .exr)."""
+    ``view_from_space``), ``sun`` (the keywords of ``Scene.set_sun``), its output files (.png, .exr) and its
+    whole-sky pictures (:class:`~planetviz.app.sky_images.SkyImage`: dome masters, panoramas)."""
 
     index: int
     view: dict
     sun: dict
     outputs: tuple
+    sky: tuple = ()
+
+    @property
+    def files(self):
+        """Every file the frame writes."""
+        return self.outputs + tuple(image.path for image in self.sky)
 
 
 def numbered(path, i):
@@ -89,7 +97,10 @@ def sequence_frames(args, bottom_radius, times=None):
                               fov=args.fov or 60.0, **site))
             suns.append(sun)
     stems = [Path(path).resolve() for path in (args.screenshot, args.exr) if path]   # workers elsewhere: absolute
-    return [Frame(i, v, s, tuple(numbered(path, i) for path in stems)) for i, (v, s) in enumerate(zip(views, suns))]
+    images = sky_images(args)
+    return [Frame(i, v, s, tuple(numbered(path, i) for path in stems),
+                  tuple(replace(image, path=numbered(Path(image.path).resolve(), i)) for image in images))
+            for i, (v, s) in enumerate(zip(views, suns))]
 
 
 _SCENES = {}
@@ -121,17 +132,20 @@ def render_frame(settings, frame):
     scene = _scene(settings)
     set_view(scene, frame.view)
     scene.set_sun(**frame.sun)
-    for out in frame.outputs:
+    writers = [(out, scene.render_hdr if Path(out).suffix.lower() == ".exr" else scene.screenshot)
+               for out in frame.outputs]
+    writers += [(image.path, lambda tmp, image=image: write_sky_image(scene, image, tmp)) for image in frame.sky]
+    for out, write in writers:
         path = Path(out)
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f".{path.stem}.partial{path.suffix}")
-        (scene.render_hdr if path.suffix.lower() == ".exr" else scene.screenshot)(str(tmp))
+        write(str(tmp))
         os.replace(tmp, path)
     return frame.index
 
 
 def manifest_path(frames):
-    first = Path(frames[0].outputs[0])
+    first = Path(frames[0].files[0])
     return first.with_name(first.stem.rsplit("_", 1)[0] + ".manifest.json")
 
 
@@ -160,15 +174,15 @@ def finished_frames(path, settings, frames):
         return set()
     recorded = {f.get("index"): f for f in old.get("frames", []) if isinstance(f, dict)}
     return {f.index for f in frames
-            if recorded.get(f.index) == _as_json(asdict(f)) and all(Path(out).exists() for out in f.outputs)}
+            if recorded.get(f.index) == _as_json(asdict(f)) and all(Path(out).exists() for out in f.files)}
 
 
 def run_sequence(settings, frames, workers=None, scheduler=None, retries=2, progress=None):
     """Render the frames whose outputs are missing (here, or on Dask with ``workers`` local processes or at the
     ``scheduler`` address); ``progress(done, total)`` after each frame. Returns the indices rendered; raises
     RuntimeError naming the frames that failed after their retries."""
-    if not frames or not frames[0].outputs:
-        raise ValueError("sequence: --screenshot and/or --exr name the frames' files")
+    if not frames or not frames[0].files:
+        raise ValueError("sequence: --screenshot, --exr, --fisheye or --panorama name the frames' files")
     finished = finished_frames(manifest_path(frames), settings, frames)
     write_manifest(manifest_path(frames), settings, frames)
     todo = [f for f in frames if f.index not in finished]

@@ -23,18 +23,29 @@ def equirectangular_directions(camera, width, height):
             + np.sin(el)[..., None] * up)
 
 
-def fisheye_directions(camera, size, field_of_view_deg=180.0, heading_deg=0.0):
-    """(size, size, 3) unit directions of an equidistant (angular) fisheye looking at the zenith, the dome
-    master convention: the radius from the centre is proportional to the zenith angle, ``field_of_view_deg``
-    across the circle, ``heading_deg`` at the bottom of the image; outside the circle NaN."""
+def fisheye_directions(camera, size, field_of_view_deg=180.0, heading_deg=0.0, tilt_deg=0.0):
+    """(size, size, 3) unit directions of an equidistant (angular) fisheye, the dome master convention: the
+    radius from the centre is proportional to the angle from the dome's axis, ``field_of_view_deg`` across the
+    circle, ``heading_deg`` (from north through east) at the bottom of the image; outside the circle NaN.
+
+    The axis is the zenith turned by ``tilt_deg`` toward the heading (a dome tilted forward, its centre
+    90 - tilt deg above the horizon): with h the horizontal heading direction and s the horizontal direction
+    90 deg to its right, the axis a = cos(tilt) up + sin(tilt) h and the image's downward direction
+    b = cos(tilt) h - sin(tilt) up; a pixel at angle z from the centre and phi from the image's bottom
+    (counter-clockwise seen from inside) looks along sin(z) (cos(phi) b + sin(phi) s) + cos(z) a."""
     up, east, north = local_frame(*site_of(camera))
     c = (np.arange(size) + 0.5) / size * 2 - 1
     x, y = np.meshgrid(c, -c)
     rho = np.hypot(x, y)
-    zenith = rho * np.radians(field_of_view_deg) / 2
-    az = np.radians(heading_deg) + np.arctan2(x, -y)
-    d = (np.sin(zenith)[..., None] * (np.cos(az)[..., None] * north + np.sin(az)[..., None] * east)
-         + np.cos(zenith)[..., None] * up)
+    z = rho * np.radians(field_of_view_deg) / 2
+    phi = np.arctan2(x, -y)
+    heading, tilt = np.radians(heading_deg), np.radians(tilt_deg)
+    h = np.cos(heading) * north + np.sin(heading) * east
+    s = -np.sin(heading) * north + np.cos(heading) * east
+    a = np.cos(tilt) * up + np.sin(tilt) * h
+    b = np.cos(tilt) * h - np.sin(tilt) * up
+    d = (np.sin(z)[..., None] * (np.cos(phi)[..., None] * b + np.sin(phi)[..., None] * s)
+         + np.cos(z)[..., None] * a)
     d[rho > 1] = np.nan
     return d
 
