@@ -94,6 +94,14 @@ def add_render_options(p):
                         "evaluator per pixel (the check; slow)")
 
 
+def _shading(args):
+    """``--shading``, by default per pixel; per vertex where only whole-sky pictures are asked for, whose cube faces
+    read the tables per vertex (cube_faces.render_directions), so that the scene is not rebuilt for each."""
+    if args.shading:
+        return args.shading
+    return "pixel" if args.screenshot or args.exr else "vertex"
+
+
 def wants_output(args):
     return any((args.screenshot, args.exr, args.fisheye, args.panorama))
 
@@ -167,7 +175,7 @@ def run_render(args) -> int:
     from ..render import Scene
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
-                  off_screen=True, method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
+                  off_screen=True, method=args.method, shading=_shading(args), quick_samples=args.samples,
                   quick_terms=args.terms, tables=args.tables)
     try:
         set_view(scene, view_keywords(args))
@@ -190,7 +198,7 @@ def _run_sequence(args, times):
     atm = load_atmosphere(args.atmosphere)
     settings = SceneSettings(atm.to_json(), quality=args.quality, surface=None if args.uniform_albedo else "texture",
                              exposure=args.exposure, tone_mapping=args.tone_mapping, size=tuple(args.size),
-                             method=args.method, shading=args.shading or "pixel", quick_samples=args.samples,
+                             method=args.method, shading=_shading(args), quick_samples=args.samples,
                              quick_terms=args.terms, tables=args.tables)
     frames = sequence_frames(args, atm.bottom_radius_m, times)
     bar = _Bar(len(frames), "time-lapse" if times else "sun sweep" if args.sweep_sun else "flight")
