@@ -189,9 +189,7 @@ class Scene(pv.Plotter):
         if shading not in SHADINGS:
             raise ValueError(f"shading: one of {', '.join(SHADINGS)}, got {shading!r}")
         self._shading = shading
-        if self.planet is not None:
-            self._drop_actors()
-            self._show_tables(self._tables)
+        self._show_again()
 
     @property
     def table_kind(self):
@@ -203,6 +201,10 @@ class Scene(pv.Plotter):
         if kind not in TABLE_KINDS:
             raise ValueError(f"tables: one of {', '.join(TABLE_KINDS)}, got {kind!r}")
         self._table_kind = kind
+        self._show_again()
+
+    def _show_again(self):
+        """Show the planet's tables again with the current shading and table kind (if tables are shown)."""
         if self.planet is not None:
             self._drop_actors()
             self._show_tables(self._tables)
@@ -227,11 +229,9 @@ class Scene(pv.Plotter):
         sizes = QUALITY[self._quality]
         same = not force and (parameters_hash(stage_parameters(old, sizes)["multiple_scattering"])
                               == parameters_hash(stage_parameters(atm, sizes)["multiple_scattering"]))
-        if same:                              # e.g. only the star or the name changed: the tables stay
-            if self.planet is not None:
-                self._drop_actors()
-                self._show_tables(self._tables)
-                return
+        if same and self.planet is not None:  # e.g. only the star or the name changed: the tables stay
+            self._show_again()
+            return
         cache = TableCache() if self._cache else None
         if wait:
             self._drop_actors()
