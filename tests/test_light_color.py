@@ -73,3 +73,17 @@ def test_flat_spectrum_is_white_and_an_m_dwarf_reddens_the_same_sky():
     mdwarf = load_atmosphere("exo-mdwarf").replace(wavelengths_nm=atm.wavelengths_nm)
     red_xy = colour.XYZ_to_xy(radiance_to_xyz(radiance, mdwarf))
     assert red_xy[0] > sun_xy[0] + 0.05            # much redder (larger x) under a 3200 K star
+
+
+def test_display_colour_is_colour_sciences_srgb_encoding_of_the_tone_mapped_value():
+    # display_colour (float32, the shader's twin) against colour-science's sRGB transfer function and the tone
+    # curves written out in float64: float32 arithmetic (the exposed value, up to 4 here, rounded to 6e-8 relative,
+    # then exp and the 1 / 2.4 power) differs by about 1e-6; bound 1e-5, far below an 8-bit step (3.9e-3).
+    import colour
+    from planetviz.model.color import display_colour
+    rgb = np.random.default_rng(4).uniform(0.0, 4e4, (5000, 3))
+    for name, curve in (("exponential", lambda x: 1 - np.exp(-x)), ("clamp", lambda x: np.clip(x, 0, 1)),
+                        ("filmic", lambda x: np.clip(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0, 1))):
+        want = colour.cctf_encoding(np.clip(curve(rgb * 1e-4), 0, 1), function="sRGB")
+        got = display_colour(rgb, 1e-4, name)
+        assert got.dtype == np.float32 and np.abs(got - want).max() < 1e-5, name

@@ -71,8 +71,9 @@ def albedo_matrix(wavelengths_nm):
 
 def tone_map(x, tone_mapping="exponential"):
     """The twin of shaders/display.glsl tone_map: ``exponential`` 1 - exp(-x) (the paper), ``filmic``
-    (Narkowicz's fit of the ACES curve) or ``clamp``."""
-    x = np.asarray(x, dtype=float)
+    (Narkowicz's fit of the ACES curve) or ``clamp``; in x's float precision (float64 for other input)."""
+    x = np.asarray(x)
+    x = x if np.issubdtype(x.dtype, np.floating) else x.astype(float)
     if tone_mapping == "exponential":
         return 1.0 - np.exp(-x)
     if tone_mapping == "filmic":
@@ -82,8 +83,16 @@ def tone_map(x, tone_mapping="exponential"):
     raise ValueError(f"tone_mapping: exponential, filmic or clamp, got {tone_mapping!r}")
 
 
+def srgb_encode(c):
+    """The twin of shaders/display.glsl srgb_encode: the sRGB transfer function (IEC 61966-2-1) of linear values
+    in [0, 1], 12.92 c below 0.0031308, 1.055 c^(1 / 2.4) - 0.055 above (colour-science's cctf_encoding "sRGB";
+    tests/test_light_color.py compares them), in c's float precision."""
+    c = np.asarray(c)
+    return np.where(c > 0.0031308, 1.055 * np.power(c, 1.0 / 2.4) - 0.055, 12.92 * c)
+
+
 def display_colour(rgb, exposure, tone_mapping="exponential"):
-    """The twin of shaders/display.glsl display_colour: linear sRGB (cd/m^2) -> sRGB-encoded values in [0, 1]."""
-    import colour
-    mapped = tone_map(np.maximum(np.asarray(rgb, dtype=float), 0.0) * exposure, tone_mapping)
-    return colour.cctf_encoding(np.clip(mapped, 0.0, 1.0), function="sRGB")
+    """The twin of shaders/display.glsl display_colour: linear sRGB (cd/m^2) -> sRGB-encoded values in [0, 1], in
+    float32 as the shader is."""
+    mapped = tone_map(np.maximum(np.asarray(rgb, dtype=np.float32), 0.0) * np.float32(exposure), tone_mapping)
+    return srgb_encode(np.clip(mapped, 0.0, 1.0))
