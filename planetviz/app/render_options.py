@@ -78,7 +78,7 @@ def add_render_options(p):
                    help="batch: one frame per time from START to STOP (ISO 8601) every STEP (10min, 1h, PT10M), "
                         "the Sun over the site")
     p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="batch: render the frames on a local Dask cluster of N processes (resumable either way)")
+                   help="batch: render the frames on a local Dask cluster of N worker threads (resumable either way)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="batch: render the frames on the Dask cluster of this scheduler (tcp://HOST:8786)")
     p.add_argument("--flight", type=int, default=None, metavar="FRAMES",
