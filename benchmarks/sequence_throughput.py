@@ -68,8 +68,8 @@ def main():
     args = ap.parse_args()
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     root = Path(tempfile.mkdtemp(prefix="planetviz-sequence-"))
-    run(args, [], root / "warm")                     # the tables into the cache
-    rows = [("one process", *run(args, [], root / "one"))]
+    run(args, ["--workers", "0"], root / "warm")    # the tables into the cache
+    rows = [("one process", *run(args, ["--workers", "0"], root / "one"))]
     for n in args.workers:
         rows.append((f"local Dask, {n} worker(s)", *run(args, ["--workers", str(n)], root / f"local{n}")))
     for n in args.workers:

@@ -78,7 +78,8 @@ def add_render_options(p):
                    help="batch: one frame per time from START to STOP (ISO 8601) every STEP (10min, 1h, PT10M), "
                         "the Sun over the site")
     p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="batch: render the frames on a local Dask cluster of N worker threads (resumable either way)")
+                   help="batch: worker threads of the local Dask cluster that renders the frames (default: the "
+                        "machine's cores; 0: no cluster, this process renders them; resumable either way)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="batch: render the frames on the Dask cluster of this scheduler (tcp://HOST:8786)")
     p.add_argument("--flight", type=int, default=None, metavar="FRAMES",
@@ -193,8 +194,9 @@ def run_render(args) -> int:
 def _run_sequence(args, times):
     from ..model.presets import load_atmosphere
     from .sequence import SceneSettings, manifest_path, run_sequence, sequence_frames
-    if args.workers is not None and not 1 <= args.workers <= 256:
-        raise ValueError(f"workers: 1 to 256 processes, got {args.workers}")
+    if args.workers is not None and not 0 <= args.workers <= 256:
+        raise ValueError(f"workers: 0 to 256 threads, got {args.workers}")
+    workers = (os.cpu_count() or 1) if args.workers is None else args.workers
     atm = load_atmosphere(args.atmosphere)
     settings = SceneSettings(atm.to_json(), quality=args.quality, surface=None if args.uniform_albedo else "texture",
                              exposure=args.exposure, tone_mapping=args.tone_mapping, size=tuple(args.size),
@@ -202,7 +204,8 @@ def _run_sequence(args, times):
                              quick_terms=args.terms, tables=args.tables)
     frames = sequence_frames(args, atm.bottom_radius_m, times)
     bar = _Bar(len(frames), "time-lapse" if times else "sun sweep" if args.sweep_sun else "flight")
-    rendered = run_sequence(settings, frames, workers=args.workers, scheduler=args.scheduler,
+    rendered = run_sequence(settings, frames, workers=None if workers == 0 or args.scheduler else workers,
+                            scheduler=args.scheduler,
                             progress=lambda done, total: bar(done))
     print(f"{len(rendered)} frames rendered, {len(frames) - len(rendered)} already there; "
           f"manifest {manifest_path(frames)}")

@@ -3,6 +3,9 @@ on Dask workers, resumable, with a JSON manifest.
 
     planetviz render ... --sweep-sun -6 30 2 --screenshot frames/sun.png [--workers 2 | --scheduler tcp://HOST:8786]
 
+(``planetviz render``'s sequences run on a local Dask cluster of the machine's cores by default, ``--workers 0``
+in this process.)
+
 1. :func:`sequence_frames` lists the frames: their camera, their sun and their numbered outputs.
 2. :func:`run_sequence` writes the manifest (``<first output's folder>/<stem>.manifest.json``: the atmosphere's
    hash, the scene's settings, every frame's parameters; paths absolute, on a folder every worker sees), skips the
@@ -183,7 +186,7 @@ def finished_frames(path, settings, frames):
 
 
 def run_sequence(settings, frames, workers=None, scheduler=None, retries=2, progress=None):
-    """Render the frames whose outputs are missing (here, or on Dask with ``workers`` local processes or at the
+    """Render the frames whose outputs are missing (here, or on Dask with ``workers`` local worker threads or at the
     ``scheduler`` address); ``progress(done, total)`` after each frame. Returns the indices rendered; raises
     RuntimeError naming the frames that failed after their retries."""
     if not frames or not frames[0].files:
