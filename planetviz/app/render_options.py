@@ -204,8 +204,7 @@ def _run_sequence(args, times):
                              quick_terms=args.terms, tables=args.tables)
     frames = sequence_frames(args, atm.bottom_radius_m, times)
     bar = _Bar(len(frames), "time-lapse" if times else "sun sweep" if args.sweep_sun else "flight")
-    rendered = run_sequence(settings, frames, workers=None if workers == 0 or args.scheduler else workers,
-                            scheduler=args.scheduler,
+    rendered = run_sequence(settings, frames, workers=workers or None, scheduler=args.scheduler,
                             progress=lambda done, total: bar(done))
     print(f"{len(rendered)} frames rendered, {len(frames) - len(rendered)} already there; "
           f"manifest {manifest_path(frames)}")

@@ -33,6 +33,12 @@ from .vertex_actor import VertexAtmosphereActor
 SHADINGS = {"pixel": AtmosphereActor, "vertex": VertexAtmosphereActor}
 
 
+def _one_of(field, value, choices):
+    """Raise ValueError naming ``field`` and its choices unless ``value`` is one of them."""
+    if value not in choices:
+        raise ValueError(f"{field}: one of {', '.join(choices)}, got {value!r}")
+
+
 def is_software_renderer(gl_renderer):
     """True for an OpenGL renderer string of a CPU rasteriser (Mesa's llvmpipe, softpipe, swrast; OpenSWR)."""
     return any(name in gl_renderer.lower() for name in ("llvmpipe", "softpipe", "swrast", "swr", "software"))
@@ -124,14 +130,11 @@ class Scene(pv.Plotter):
         self.ren_win.SetMultiSamples(0)
         self.set_background("black")
         self.renderer.SetNearClippingPlaneTolerance(1e-6)
-        if tone_mapping not in TONE_MAPPINGS:
-            raise ValueError(f"tone_mapping: one of {', '.join(TONE_MAPPINGS)}, got {tone_mapping!r}")
+        _one_of("tone_mapping", tone_mapping, TONE_MAPPINGS)
         if not (np.isfinite(exposure) and exposure > 0):
             raise ValueError(f"exposure: a positive finite number, got {exposure!r}")
-        if shading not in (*SHADINGS, "auto"):
-            raise ValueError(f"shading: one of {', '.join(SHADINGS)}, auto, got {shading!r}")
-        if tables not in TABLE_KINDS:
-            raise ValueError(f"tables: one of {', '.join(TABLE_KINDS)}, got {tables!r}")
+        _one_of("shading", shading, (*SHADINGS, "auto"))
+        _one_of("tables", tables, TABLE_KINDS)
         self._table_kind = tables
         self._tables = None                   # the 4D tables of the planet shown
         self.settings = DisplaySettings(exposure=float(exposure), tone_mapping=tone_mapping)
@@ -153,8 +156,7 @@ class Scene(pv.Plotter):
         """Set the planet: precompute (or load) its tables and show them (``method="tables"``), or show the
         quick view (``"quick"``, no tables). Returns the actor shown."""
         atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
-        if quality not in QUALITY:
-            raise ValueError(f"quality: one of {', '.join(QUALITY)}, got {quality!r}")
+        _one_of("quality", quality, QUALITY)
         if method not in ("tables", "quick"):
             raise ValueError(f"method: tables or quick, got {method!r}")
         self._atmosphere, self._quality, self._cache = atm, quality, cache
@@ -174,8 +176,7 @@ class Scene(pv.Plotter):
 
     def set_quality(self, quality):
         """Change the table quality (new tables in the background, the quick view meanwhile)."""
-        if quality not in QUALITY:
-            raise ValueError(f"quality: one of {', '.join(QUALITY)}, got {quality!r}")
+        _one_of("quality", quality, QUALITY)
         self._quality = quality
         self.set_atmosphere(self._atmosphere, force=True)
 
@@ -186,8 +187,7 @@ class Scene(pv.Plotter):
 
     def set_shading(self, shading):
         """Read the tables per pixel (``"pixel"``) or per vertex of the direction mesh (``"vertex"``)."""
-        if shading not in SHADINGS:
-            raise ValueError(f"shading: one of {', '.join(SHADINGS)}, got {shading!r}")
+        _one_of("shading", shading, SHADINGS)
         self._shading = shading
         self._show_again()
 
@@ -198,8 +198,7 @@ class Scene(pv.Plotter):
 
     def set_table_kind(self, kind):
         """Draw the 4D tables (``"4d"``) or their compact tables (``"compact"``)."""
-        if kind not in TABLE_KINDS:
-            raise ValueError(f"tables: one of {', '.join(TABLE_KINDS)}, got {kind!r}")
+        _one_of("tables", kind, TABLE_KINDS)
         self._table_kind = kind
         self._show_again()
 
