@@ -77,56 +77,22 @@ class HDRImage:
 SUN_DEFAULT = (30.0, 135.0, 0.0, 0.0)
 
 
-class Scene(pv.Plotter):
-    """A planet with its atmosphere, rendered from precomputed tables (paper Sect. 5).
+class PlanetView:
+    """A planet with its atmosphere on a PyVista plotter: the tables or the quick view, the sun and the camera.
 
-    Parameters
-    ----------
-    atmosphere : str, Path or Atmosphere
-        A preset name (``"earth"``, ``"mars"``, ...), an atmosphere file or an :class:`Atmosphere`.
-    quality : str
-        Table quality: ``"draft"``, ``"standard"`` or ``"high"``.
-    surface : str or ndarray or None
-        ``"texture"``: the planet's colour map from ``assets/textures`` where there is one (else the
-        atmosphere's ground albedo); ``None``: the atmosphere file's uniform ground albedo; or an (h, w, 3)
-        uint8 sRGB equirectangular image.
-    exposure : float
-        Multiplies linear sRGB (cd/m^2) before tone mapping; 1e-4 suits daylight, twilight needs ~1e-2.
-    tone_mapping : str
-        ``"exponential"`` (the paper's 1 - exp(-x)), ``"filmic"`` or ``"clamp"``.
-    method : str
-        ``"tables"`` (precomputed multiple scattering) or ``"quick"`` (the quick view: single scattering per
-        vertex, no precompute).
-    shading : str
-        How the tables are read: ``"pixel"`` (every pixel, the paper's Algorithm 1), ``"vertex"`` (the 4D
-        tables at the vertices of an adaptive mesh of view directions, interpolated, with the lit ground and the
-        sun disc per pixel: about 20x faster on a software renderer, within the interpolation error measured in
-        docs/benchmarks.md) or ``"auto"`` (``"vertex"`` on a software OpenGL such as llvmpipe, else
-        ``"pixel"``; decided after the first frame).
-    quick_samples, quick_terms : int, str
-        The quick view's points per path and terms (``"physical"`` or Keller and Bohn's ``"artistic"``).
-    tables : str
-        Which tables are drawn: ``"4d"`` (the precomputed 4D tables) or ``"compact"`` (Atmosphere Plus's 3D tables
-        made from them, for machines short of GPU memory: a third of the memory, without the sun-view azimuth
-        and the quadratures along rays; their error in docs/benchmarks.md).
-
-    Examples
-    --------
-    >>> import planetviz
-    >>> scene = planetviz.Scene("earth", quality="draft", off_screen=True, window_size=(320, 240))
-    >>> scene.view_from_ground(latitude=45, heading=90, pitch=5)
-    >>> scene.set_sun(elevation=3, azimuth=90, latitude=45)
-    >>> scene.screenshot("sunset.png")  # doctest: +SKIP
-    >>> hdr = scene.render_hdr()       # linear radiance, float32
+    Mixed into a plotter class: :class:`Scene` (``pyvista.Plotter``, a window of its own or off-screen) and the
+    Qt window's view (``pyvistaqt.QtInteractor``, planetviz/app/qt_window.py). The keywords are
+    :class:`Scene`'s; the rest go to the plotter.
     """
 
+
     def __init__(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
-                 tone_mapping="exponential", window_size=(960, 540), cache=True, method="tables",
-                 shading="pixel", quick_samples=8, quick_terms="physical", tables="4d", **kwargs):
+                 tone_mapping="exponential", cache=True, method="tables", shading="pixel", quick_samples=8,
+                 quick_terms="physical", tables="4d", **kwargs):
         self._job = None                      # a background precompute (render() may run inside __init__)
         self._auto_shading = False
         self.gl_renderer = None               # the OpenGL renderer string, known after the first frame
-        super().__init__(window_size=list(window_size), **kwargs)
+        super().__init__(**kwargs)
         self.ren_win.SetMultiSamples(0)
         self.set_background("black")
         self.renderer.SetNearClippingPlaneTolerance(1e-6)
@@ -160,7 +126,7 @@ class Scene(pv.Plotter):
         if method not in ("tables", "quick"):
             raise ValueError(f"method: tables or quick, got {method!r}")
         self._atmosphere, self._quality, self._cache = atm, quality, cache
-        self._surface = surface_texture(atm) if isinstance(surface, str) and surface == "texture" else surface
+        self._ground_surface = surface_texture(atm) if isinstance(surface, str) and surface == "texture" else surface
         self._drop_actors()
         if method == "tables":
             self._show_tables(precompute(atm, QUALITY[quality], cache=TableCache() if cache else None))
@@ -210,8 +176,8 @@ class Scene(pv.Plotter):
 
     def set_method(self, method):
         """Show the tables (``"tables"``) or the quick view (``"quick"``) of the current planet."""
-        return self.add_planet(self._atmosphere, quality=self._quality, surface=self._surface, cache=self._cache,
-                               method=method)
+        return self.add_planet(self._atmosphere, quality=self._quality, surface=self._ground_surface,
+                               cache=self._cache, method=method)
 
     def set_atmosphere(self, atmosphere, wait=False, force=False):
         """Change the atmosphere, keeping the view. With table rendering, a change that needs new tables shows
@@ -287,8 +253,8 @@ class Scene(pv.Plotter):
     def _show_tables(self, tables):
         self._tables = tables
         drawn = tables_of_kind(tables, self._atmosphere, self._table_kind)
-        self.planet = SHADINGS[self._shading](self._atmosphere, drawn, self.renderer, surface=self._surface,
-                                              settings=self.settings)
+        self.planet = SHADINGS[self._shading](self._atmosphere, drawn, self.renderer,
+                                              surface=self._ground_surface, settings=self.settings)
         self.planet.sun_direction = self._sun
         self.add_actor(self.planet.actor, reset_camera=False, name="planet")
         self.renderer.ResetCameraClippingRange()     # the previous actor's bounds may have set it
@@ -443,6 +409,53 @@ class Scene(pv.Plotter):
         if self.planet is not None and self.ren_win is not None:
             self.planet.release()
         return super().close(*args, **kwargs)
+
+
+class Scene(PlanetView, pv.Plotter):
+    """A planet with its atmosphere, rendered from precomputed tables (paper Sect. 5).
+
+    Parameters
+    ----------
+    atmosphere : str, Path or Atmosphere
+        A preset name (``"earth"``, ``"mars"``, ...), an atmosphere file or an :class:`Atmosphere`.
+    quality : str
+        Table quality: ``"draft"``, ``"standard"`` or ``"high"``.
+    surface : str or ndarray or None
+        ``"texture"``: the planet's colour map from ``assets/textures`` where there is one (else the
+        atmosphere's ground albedo); ``None``: the atmosphere file's uniform ground albedo; or an (h, w, 3)
+        uint8 sRGB equirectangular image.
+    exposure : float
+        Multiplies linear sRGB (cd/m^2) before tone mapping; 1e-4 suits daylight, twilight needs ~1e-2.
+    tone_mapping : str
+        ``"exponential"`` (the paper's 1 - exp(-x)), ``"filmic"`` or ``"clamp"``.
+    method : str
+        ``"tables"`` (precomputed multiple scattering) or ``"quick"`` (the quick view: single scattering per
+        vertex, no precompute).
+    shading : str
+        How the tables are read: ``"pixel"`` (every pixel, the paper's Algorithm 1), ``"vertex"`` (the 4D
+        tables at the vertices of an adaptive mesh of view directions, interpolated, with the lit ground and the
+        sun disc per pixel: about 20x faster on a software renderer, within the interpolation error measured in
+        docs/benchmarks.md) or ``"auto"`` (``"vertex"`` on a software OpenGL such as llvmpipe, else
+        ``"pixel"``; decided after the first frame).
+    quick_samples, quick_terms : int, str
+        The quick view's points per path and terms (``"physical"`` or Keller and Bohn's ``"artistic"``).
+    tables : str
+        Which tables are drawn: ``"4d"`` (the precomputed 4D tables) or ``"compact"`` (Atmosphere Plus's 3D tables
+        made from them, for machines short of GPU memory: a third of the memory, without the sun-view azimuth
+        and the quadratures along rays; their error in docs/benchmarks.md).
+
+    Examples
+    --------
+    >>> import planetviz
+    >>> scene = planetviz.Scene("earth", quality="draft", off_screen=True, window_size=(320, 240))
+    >>> scene.view_from_ground(latitude=45, heading=90, pitch=5)
+    >>> scene.set_sun(elevation=3, azimuth=90, latitude=45)
+    >>> scene.screenshot("sunset.png")  # doctest: +SKIP
+    >>> hdr = scene.render_hdr()       # linear radiance, float32
+    """
+
+    def __init__(self, *args, window_size=(960, 540), **kwargs):
+        super().__init__(*args, window_size=list(window_size), **kwargs)
 
 
 class _TableJob:
