@@ -8,7 +8,8 @@ from pathlib import Path
 
 os.environ.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
 
-from planetviz.app.window import STANDARD, PlanetApp  # noqa: E402
+from planetviz.app.parameters import STANDARD  # noqa: E402
+from planetviz.app.window import PlanetApp  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "img" / "gallery"
@@ -23,8 +24,7 @@ app.set_sun(elevation=2, azimuth=250)
 app.camera_preset("ground")
 app.refresh()
 scene.screenshot(str(OUT / "window-ground.png"))
-label, _, _, put = STANDARD[4]
-app.change_parameter(label, put, 1.0)
+app.change_parameter(STANDARD[4], 1.0)
 app.refresh()
 scene.screenshot(str(OUT / "window-refused.png"))
 scene.close()

@@ -57,6 +57,17 @@ def test_the_window_opens_responds_to_widgets_and_refuses_invalid_values(xvfb, t
     assert "renderer:" in r["status"]
 
 
+def test_the_qt_window_under_xvfb(xvfb, tmp_path):
+    # The Qt window driven through its widgets with pytest-qt (tests/gui/qt_window_checks.py holds the steps and
+    # what each must change) in a process of its own on the virtual display.
+    env = {k: v for k, v in os.environ.items() if k != "VTK_DEFAULT_OPENGL_WINDOW"}
+    env["DISPLAY"] = xvfb
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--basetemp",
+                           str(tmp_path / "qt"), str(ROOT / "tests" / "gui" / "qt_window_checks.py")],
+                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-2000:]
+
+
 def run_app(*args, cwd):
     env = dict(os.environ, VTK_DEFAULT_OPENGL_WINDOW="vtkOSOpenGLRenderWindow")
     return subprocess.run([sys.executable, str(ROOT / "app.py"), *args], cwd=cwd, env=env, capture_output=True,
@@ -115,8 +126,8 @@ def test_advanced_mode_sliders_act_on_the_physical_quantities():
         before = np.asarray(scene.atmosphere.rayleigh.scattering_m)
         n = np.asarray(app._source["rayleigh"]["refractive_index"])
         label = "molecular refractivity (n - 1) x"
-        put = [row for row in app._advanced_rows() if row[0] == label][0][3]
-        assert app.change_parameter(label, put, 2.0)
+        row = [row for row in app._advanced_rows() if row.label == label][0]
+        assert app.change_parameter(row, 2.0)
         after = np.asarray(scene.atmosphere.rayleigh.scattering_m)
         n2 = 1 + 2 * (n - 1)
         assert np.allclose(after / before, ((n2 ** 2 - 1) / (n ** 2 - 1)) ** 2, rtol=1e-6)
@@ -131,7 +142,7 @@ def test_standard_mode_turbidity_slider_follows_eq_17():
     # Eq. 17 written out here: beta_M = 0.434 C(T) pi (2 pi / lambda)^(v - 2) K, C(T) = (0.65 T - 0.65) 1e-16,
     # with the slider's v = 4 and K = 0.0092; extinction keeps the file's extinction/scattering ratio.
     import copy
-    from planetviz.app.window import set_turbidity, turbidity_of
+    from planetviz.app.parameters import set_turbidity, turbidity_of
     from planetviz.model.presets import load_atmosphere
     d = load_atmosphere("earth").to_dict()
     base = copy.deepcopy(d)
@@ -166,14 +177,13 @@ def app_sequences(n_examples):
     @given(steps=st.lists(action, min_size=1, max_size=6))
     def check(app, steps):
         from planetviz import Atmosphere
-        from planetviz.app.window import STANDARD
+        from planetviz.app.parameters import STANDARD
         scene = app.scene
         for kind, a, b in steps:
             before = (scene.atmosphere, scene.sun, scene.settings.exposure)
             if kind == "slider":
                 rows = STANDARD if app.mode == "standard" else app._advanced_rows()
-                label, _, _, put = rows[a % len(rows)]
-                ok = app.change_parameter(label, put, b)
+                ok = app.change_parameter(rows[a % len(rows)], b)
             elif kind == "sun":
                 ok = app.set_sun(elevation=a, azimuth=b)
             elif kind == "exposure":

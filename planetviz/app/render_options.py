@@ -18,8 +18,6 @@ import os
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from ..model.geometry import EYE_HEIGHT_M
 from ..model.presets import PRESETS
 from ..tables.compact import TABLE_KINDS
@@ -134,6 +132,27 @@ def set_view(scene, view):
     view = dict(view)
     kind = view.pop("kind")
     (scene.view_from_space if kind == "space" else scene.view_from_ground)(**view)
+
+
+#: The windows' camera presets (:func:`camera_preset`).
+CAMERA_PRESETS = ("orbit", "limb", "aircraft", "ground")
+
+
+def camera_preset(scene, name, site):
+    """Look at ``site`` (latitude, longitude [deg]) from orbit, or toward the sun from 400 km (the limb), 10 km
+    (an aircraft) or eye height on the ground."""
+    (lat, lon), heading = site, scene.sun.azimuth
+    if name == "orbit":
+        scene.view_from_space(latitude=lat, longitude=lon)
+    elif name == "limb":
+        scene.view_from_ground(latitude=lat, longitude=lon, altitude=4e5, heading=heading, pitch=-17.0, fov=40.0)
+    elif name == "aircraft":
+        scene.view_from_ground(latitude=lat, longitude=lon, altitude=1e4, heading=heading, pitch=0.0, fov=60.0)
+    elif name == "ground":
+        scene.view_from_ground(latitude=lat, longitude=lon, altitude=EYE_HEIGHT_M, heading=heading, pitch=5.0,
+                               fov=60.0)
+    else:
+        raise ValueError(f"camera preset: one of {', '.join(CAMERA_PRESETS)}, got {name!r}")
 
 
 def _frame(scene, args):

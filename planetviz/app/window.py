@@ -21,58 +21,16 @@ import time
 
 import numpy as np
 
-from ..model.limits import LIMITS, AtmosphereError
-from ..model.geometry import EYE_HEIGHT_M
-from ..model.optics.mie import TURBIDITY_JUNGE, TURBIDITY_K, mie_scattering_turbidity, turbidity_from_scattering
+from ..model.limits import AtmosphereError
 from ..model.presets import PRESETS, load_atmosphere, load_dict
 from ..render.scene import flight_path
+from .parameters import STANDARD, advanced_parameters, apply_parameter, current_value
+from .render_options import camera_preset
 
 PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
 QUALITIES = ("draft", "standard", "high")
 #: The site the window looks at and sees the sun from unless told (``app.py --site``): latitude, longitude [deg].
 SITE = (30.0, 0.0)
-
-
-def _scaled(values, factor):
-    return [float(v) * factor for v in values]
-
-
-def turbidity_of(d, b):
-    """The turbidity of the dict ``d`` (:func:`~planetviz.model.optics.mie.turbidity_from_scattering`)."""
-    return turbidity_from_scattering(np.asarray(d["wavelengths_nm"]) * 1e-9, d["mie"]["scattering_m"])
-
-
-def set_turbidity(d, b, turbidity):
-    """Set the dict ``d``'s Mie scattering from Eq. 17 at ``turbidity``, keeping ``b``'s extinction / scattering."""
-    scat = mie_scattering_turbidity(np.asarray(d["wavelengths_nm"]) * 1e-9, turbidity, TURBIDITY_JUNGE, TURBIDITY_K)
-    ratio = np.asarray(b["mie"]["extinction_m"]) / np.maximum(np.asarray(b["mie"]["scattering_m"]), 1e-300)
-    d["mie"].update(scattering_m=[float(x) for x in scat], extinction_m=[float(x) for x in scat * ratio])
-
-
-#: Standard-mode sliders: (label with unit, range, getter(dict) -> value, setter(dict, value)).
-STANDARD = [
-    ("Rayleigh x (scattering scale)", (0.1, 5.0), lambda d, b: 1.0,
-     lambda d, b, v: d["rayleigh"].update(scattering_m=_scaled(b["rayleigh"]["scattering_m"], v))),
-    ("Mie x (scattering and extinction scale)", (0.0, 10.0), lambda d, b: 1.0,
-     lambda d, b, v: d["mie"].update(scattering_m=_scaled(b["mie"]["scattering_m"], v),
-                                     extinction_m=_scaled(b["mie"]["extinction_m"], v))),
-    ("turbidity T (Eq. 17: Junge 4, K 0.0092)", (1.0, 10.0), turbidity_of, set_turbidity),
-    ("Rayleigh scale height [km]", (0.5, 50.0), lambda d, b: d["rayleigh"]["profile"]["scale_height_m"] / 1e3,
-     lambda d, b, v: d["rayleigh"]["profile"].update(scale_height_m=v * 1e3)),
-    ("Mie scale height [km]", (0.1, 20.0), lambda d, b: d["mie"]["profile"]["scale_height_m"] / 1e3,
-     lambda d, b, v: d["mie"]["profile"].update(scale_height_m=v * 1e3)),
-    ("Mie g1 (forward lobe)", LIMITS["g"], lambda d, b: d["mie"]["phase"]["g1"][0],
-     lambda d, b, v: d["mie"]["phase"].update(g1=[v] * len(d["wavelengths_nm"]))),
-    ("Mie g2 (second lobe)", LIMITS["g"], lambda d, b: d["mie"]["phase"]["g2"][0],
-     lambda d, b, v: d["mie"]["phase"].update(g2=[v] * len(d["wavelengths_nm"]))),
-    ("Mie alpha (weight of g1)", (0.0, 1.0), lambda d, b: d["mie"]["phase"]["alpha"][0],
-     lambda d, b, v: d["mie"]["phase"].update(alpha=[v] * len(d["wavelengths_nm"]))),
-    ("ozone x (absorbers' scale, 0 = off)", (0.0, 3.0), lambda d, b: 1.0 if b["absorption"] else 0.0,
-     lambda d, b, v: d.update(absorption=[{**layer, "extinction_m": _scaled(layer["extinction_m"], v)}
-                                          for layer in b["absorption"]])),
-    ("ground albedo", (0.0, 1.0), lambda d, b: d["ground_albedo"][0],
-     lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
-]
 
 
 class PlanetApp:
@@ -132,68 +90,33 @@ class PlanetApp:
             title="exposure log10 [m2/cd]", pointa=(0.03, 0.73), pointb=(0.30, 0.73), **style)
         rows = STANDARD if self.mode == "standard" else self._advanced_rows()
         d = self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source
-        for i, (label, rng, get, put) in enumerate(rows):
+        for i, row in enumerate(rows):
             y = 0.93 - 0.08 * i
-            try:
-                value = float(get(d, self._base))
-            except (KeyError, TypeError, IndexError):
+            value = current_value(row, d, self._base)
+            if value is None:
                 continue                                # not in this atmosphere's form (e.g. advanced only)
-            self.sliders[label] = s.add_slider_widget(
-                lambda v, put=put, label=label: self.change_parameter(label, put, v), rng,
-                value=float(np.clip(value, *rng)), title=f"{label}  {rng[0]:g} to {rng[1]:g}", pointa=(0.70, y),
-                pointb=(0.97, y), **style)
+            rng = row.slider
+            self.sliders[row.label] = s.add_slider_widget(
+                lambda v, row=row: self.change_parameter(row, v), rng, value=float(np.clip(value, *rng)),
+                title=f"{row.label}  {rng[0]:g} to {rng[1]:g}", pointa=(0.70, y), pointb=(0.97, y), **style)
         for widget in self.sliders.values():
             widget.SetAnimationModeToOff()        # values change by dragging the handle, never by a stray click
         self._building = False
 
     def _advanced_rows(self):
-        """Advanced mode: the physical quantities of Table 1 "(A)" (present when the file is in advanced mode)."""
-        return [
-            ("molecular refractivity (n - 1) x", (0.1, 10.0),
-             lambda d, b: 1.0 if "refractive_index" in d["rayleigh"] else None,
-             lambda d, b, v: d["rayleigh"].update(refractive_index=[
-                 1.0 + (n - 1.0) * v for n in self._source_base["rayleigh"]["refractive_index"]])),
-            ("number density N [1/m3]", (1e22, 1e27), lambda d, b: d["rayleigh"]["number_density_m3"],
-             lambda d, b, v: d["rayleigh"].update(number_density_m3=v)),
-            ("surface pressure [kPa]", (1.0, 2000.0), lambda d, b: d["rayleigh"]["surface_pressure_pa"] / 1e3,
-             lambda d, b, v: d["rayleigh"].update(surface_pressure_pa=v * 1e3)),
-            ("depolarisation delta", (0.0, 0.5), lambda d, b: d["rayleigh"]["depolarization"],
-             lambda d, b, v: d["rayleigh"].update(depolarization=v)),
-            ("turbidity T", (1.0, 10.0), lambda d, b: d["mie"]["scattering"]["turbidity"],
-             lambda d, b, v: d["mie"]["scattering"].update(turbidity=v)),
-            ("Junge exponent v", (2.0, 6.0), lambda d, b: d["mie"]["scattering"]["junge_exponent"],
-             lambda d, b, v: d["mie"]["scattering"].update(junge_exponent=v)),
-            ("particle radius r [um]", (0.01, 20.0), lambda d, b: d["mie"]["particles"]["radius_m"] * 1e6,
-             lambda d, b, v: d["mie"]["particles"].update(radius_m=v * 1e-6)),
-            ("particle index, real part", (1.0, 2.0),
-             lambda d, b: d["mie"]["particles"]["refractive_index_real"][0],
-             lambda d, b, v: d["mie"]["particles"].update(
-                 refractive_index_real=[v] * len(d["mie"]["particles"]["refractive_index_real"]))),
-            ("particle index, imaginary k", (0.0, 0.1), lambda d, b: d["mie"]["particles"]["refractive_index_imag"][-1],
-             lambda d, b, v: d["mie"]["particles"].update(
-                 refractive_index_imag=[v] * len(d["mie"]["particles"]["refractive_index_imag"]))),
-            ("particle K x (Eq. 17's K, scale)", (0.1, 5.0), lambda d, b: 1.0 if "k" in d["mie"]["scattering"] else None,
-             lambda d, b, v: d["mie"]["scattering"].update(
-                 k=_scaled(self._source_base["mie"]["scattering"]["k"], v))),
-            ("dust amount x (particle number density, scale)", (0.0, 5.0),
-             lambda d, b: 1.0 if "number_density_m3" in d["mie"]["particles"] else None,
-             lambda d, b, v: d["mie"]["particles"].update(
-                 number_density_m3=self._source_base["mie"]["particles"]["number_density_m3"] * v)),
-            ("ground albedo", (0.0, 1.0), lambda d, b: d["ground_albedo"][0],
-             lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
-        ]
+        return advanced_parameters(self._source_base)
 
     # ------------------------------------------------------------------------------------------ actions
-    def change_parameter(self, label, put, value):
-        """Apply one widget's value to a copy of the atmosphere; refuse it visibly if it is invalid."""
+    def change_parameter(self, row, value):
+        """Apply one widget's value (:class:`~planetviz.app.parameters.Parameter` ``row``) to a copy of the
+        atmosphere; refuse it visibly if it is invalid."""
         if self._building:
             return None
-        d = copy.deepcopy(self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source)
+        source = self.scene.atmosphere.to_dict() if self.mode == "standard" else self._source
         try:
-            put(d, self._base, float(value))
-            atm = load_dict(d)
+            atm, d = apply_parameter(row, source, self._base, value)
         except (AtmosphereError, ValueError, KeyError, TypeError, AttributeError) as exc:
-            self.show_message(f"{label} = {value:.4g} refused: {exc}")
+            self.show_message(f"{row.label} = {value:.4g} refused: {exc}")
             self.refresh()
             return False
         self._source = d
@@ -251,16 +174,7 @@ class PlanetApp:
 
     def camera_preset(self, name):
         """Look at the window's site from orbit, or from 400 km (the limb), 10 km or eye height toward the sun."""
-        s, (lat, lon), heading = self.scene, self.site, self.scene.sun.azimuth
-        if name == "orbit":
-            s.view_from_space(latitude=lat, longitude=lon)
-        elif name == "limb":
-            s.view_from_ground(latitude=lat, longitude=lon, altitude=4e5, heading=heading, pitch=-17.0, fov=40.0)
-        elif name == "aircraft":
-            s.view_from_ground(latitude=lat, longitude=lon, altitude=1e4, heading=heading, pitch=0.0, fov=60.0)
-        else:
-            s.view_from_ground(latitude=lat, longitude=lon, altitude=EYE_HEIGHT_M, heading=heading, pitch=5.0,
-                               fov=60.0)
+        camera_preset(self.scene, name, self.site)
         self.refresh()
 
     def fly(self, frames=60):

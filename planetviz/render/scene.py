@@ -280,6 +280,12 @@ class PlanetView:
         return self._atmosphere
 
     @property
+    def tables(self):
+        """The 4D tables of the planet shown (:class:`~planetviz.tables.precompute.Tables`), None while the quick
+        view is shown."""
+        return self._tables if self.planet is not None else None
+
+    @property
     def active_actor(self):
         """The actor drawing the planet now (:class:`AtmosphereActor`, :class:`VertexAtmosphereActor` or
         :class:`QuickViewActor`)."""
