@@ -1,4 +1,5 @@
-"""Screenshots of the app's window for docs/gallery.md (needs a display: xvfb-run -a python docs/window_screenshot.py).
+"""Screenshots of the PyVista window (app.py --no-qt) for docs/gallery.md (needs a display: xvfb-run -a python
+docs/window_screenshot.py).
 
 The real window (not off-screen) with its widgets: Earth from orbit, then standing on the ground at sunset, then
 an invalid value refused (the message at the top).
@@ -24,7 +25,7 @@ app.set_sun(elevation=2, azimuth=250)
 app.camera_preset("ground")
 app.refresh()
 scene.screenshot(str(OUT / "window-ground.png"))
-app.change_parameter(STANDARD[4], 1.0)
+app.change_parameter(next(row for row in STANDARD if row.label.startswith("Mie g1")), 1.0)
 app.refresh()
 scene.screenshot(str(OUT / "window-refused.png"))
 scene.close()

@@ -141,6 +141,7 @@ def _cmd_sky(args) -> int:
     from ..model.color import radiance_to_srgb
     from ..model.geometry import local_frame, site_direction
     from ..reference import ground_sun_transmittance, solve
+    from .probe import readings
     atm = load_atmosphere(args.atmosphere)
     sun = site_direction(args.sun_elevation, args.sun_azimuth)
     camera = (atm.bottom_radius_m + EYE_HEIGHT_M) * local_frame(0.0, 0.0)[0]
@@ -158,6 +159,12 @@ def _cmd_sky(args) -> int:
         vals = "  ".join(f"{v:10.4e} +- {e:7.1e}" for v, e in zip(res.radiance[k], res.stderr[k]))
         el, az = views[name]
         print(f"{name:>22}  {el:5g}, {az:5g}  {vals}   {tuple(int(c) for c in rgb[k])}")
+    print(f"{'view':>22}  {'luminance':>12}  {'linear sRGB [cd/m^2 scale]':>26}  spectral radiance "
+          "[W m^-2 sr^-1 nm^-1] (the star's spectrum)")
+    for name, reading in zip(views, readings(res.radiance, atm, camera, dirs, "reference solver")):
+        rgb_text = ", ".join(f"{c:.4g}" for c in reading.linear_srgb)
+        print(f"{name:>22}  {reading.luminance:7.4g} cd/m2  {rgb_text:>26}  "
+              + "  ".join(f"{v:.4e}" for v in reading.spectral_radiance))
     sun_t = ground_sun_transmittance(atm, args.sun_elevation)[0]
     print(f"{'sun disc transmittance':>22}  {'':>12}  " + "  ".join(f"{t:10.4f}" + " " * 11 for t in sun_t)
           + f"   ({atm.air_mass} air mass)")

@@ -37,7 +37,7 @@ class Reading:
         out = [f"direction: elevation {self.elevation_deg:.2f} deg, azimuth {self.azimuth_deg:.2f} deg "
                f"({self.source})"]
         for lam, radiance, spectral in zip(self.wavelengths_nm, self.radiance, self.spectral_radiance):
-            out.append(f"{lam:g} nm: {radiance:.4e} 1/sr  {spectral:.4e} W m^-2 sr^-1 nm^-1")
+            out.append(f"{lam:g} nm: {radiance:.4e} /sr, {spectral:.4e} W/(m2 sr nm)")
         out.append(f"luminance: {self.luminance:.4g} cd/m^2")
         out.append("linear sRGB: " + ", ".join(f"{c:.4g}" for c in self.linear_srgb))
         return out

@@ -134,6 +134,7 @@ class PlanetWindow(QtWidgets.QMainWindow):
         central.addWidget(self.scene.interactor)
         central.addWidget(self._panel())
         central.setStretchFactor(0, 1)
+        self._show_preset(atmosphere if isinstance(atmosphere, str) and atmosphere in PRESETS else None)
         self.setCentralWidget(central)
         self._menus()
         self._status = QtWidgets.QLabel()
@@ -156,17 +157,25 @@ class PlanetWindow(QtWidgets.QMainWindow):
 
     # -------------------------------------------------------------------------------------------- panel
     def _panel(self):
-        panel = QtWidgets.QWidget()
+        """Tabs: the atmosphere; the sun, the camera and the display; the probe. A message line above them."""
+        panel = QtWidgets.QWidget(minimumWidth=420)
         layout = QtWidgets.QVBoxLayout(panel)
         self._alert = QtWidgets.QLabel(wordWrap=True, styleSheet="color: #c0392b")
         layout.addWidget(self._alert)
-        for group in (self._atmosphere_group(), self._sun_group(), self._camera_group(), self._display_group(),
-                      self._probe_group()):
-            layout.addWidget(group)
-        layout.addStretch(1)
-        scroll = QtWidgets.QScrollArea(widgetResizable=True, minimumWidth=400)
-        scroll.setWidget(panel)
-        return scroll
+        self._tabs = QtWidgets.QTabWidget()
+        for title, groups in (("Atmosphere", (self._atmosphere_group(),)),
+                              ("Sun and view", (self._sun_group(), self._camera_group(), self._display_group())),
+                              ("Probe", (self._probe_group(),))):
+            page = QtWidgets.QWidget()
+            column = QtWidgets.QVBoxLayout(page)
+            for group in groups:
+                column.addWidget(group)
+            column.addStretch(1)
+            scroll = QtWidgets.QScrollArea(widgetResizable=True)
+            scroll.setWidget(page)
+            self._tabs.addTab(scroll, title)
+        layout.addWidget(self._tabs)
+        return panel
 
     def _atmosphere_group(self):
         group = QtWidgets.QGroupBox("Atmosphere")
@@ -174,6 +183,7 @@ class PlanetWindow(QtWidgets.QMainWindow):
         self._preset = QtWidgets.QComboBox()
         self._preset.addItems(list(PRESETS))
         self._preset.setCurrentIndex(-1)
+        self._preset.setPlaceholderText("(a file)")
         self._preset.currentTextChanged.connect(self.load_preset)
         form.addRow("preset", self._preset)
         files = QtWidgets.QHBoxLayout()
@@ -187,6 +197,15 @@ class PlanetWindow(QtWidgets.QMainWindow):
         self._boxes = {}
         self._fill_parameters()
         return group
+
+    def _show_preset(self, name):
+        """The preset combo shows ``name`` (None: a file's atmosphere) without loading it again."""
+        self._preset.blockSignals(True)
+        if name is None:
+            self._preset.setCurrentIndex(-1)
+        else:
+            self._preset.setCurrentText(name)
+        self._preset.blockSignals(False)
 
     def _rows(self):
         if self.mode == "standard":
@@ -333,6 +352,7 @@ class PlanetWindow(QtWidgets.QMainWindow):
         except (AtmosphereError, ValueError, OSError) as exc:
             return self.refuse(f"{path}: {exc}")
         self._file = str(path)
+        self._show_preset(None)
         self._show_atmosphere(atm, source)
         return True
 
@@ -521,7 +541,7 @@ class PlanetWindow(QtWidgets.QMainWindow):
         ax = self._vertical_axes
         ax.clear()
         ax.semilogy(angle, np.maximum(luminance, 1e-12))
-        ax.set_xlabel("from the horizon below the sun, through the zenith [deg]")
+        ax.set_xlabel("from the horizon below the sun (zenith at 90) [deg]", fontsize=8)
         ax.set_ylabel("luminance [cd/m$^2$]")
         altitude = np.linalg.norm(at) - s.atmosphere.bottom_radius_m
         ax.set_title(f"the sun's vertical, seen {altitude:.4g} m up", fontsize=9)
