@@ -404,12 +404,11 @@ class PlanetWindow(QtWidgets.QMainWindow):
     def set_time(self, text):
         """The date and time (ISO 8601, with or without a UTC offset; ``now``)."""
         try:
-            stamp = pd.Timestamp(text) if str(text).strip().lower() != "now" else None
             self._time = parse_time(text)
         except ValueError as exc:
             self._show_time()
             return self.refuse(str(exc))
-        self._zone = stamp.tzinfo if stamp is not None else None
+        self._zone = None if str(text).strip().lower() == "now" else pd.Timestamp(text).tzinfo    # its UTC offset
         self._show_time()
         self._place_sun()
         return True

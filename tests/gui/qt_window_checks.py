@@ -82,6 +82,17 @@ def test_window(qtbot, window, tmp_path):
     type_into(qtbot, w._boxes["planet radius [km]"], "40")
     assert "top_radius_m" in w.message and "allowed range" in w.message and scene.atmosphere is atmosphere
     assert np.array_equal(picture(w), shown)
+    sun, site, time = scene.sun, w.site, w._time
+    w._site.setText("95,0")
+    qtbot.keyClick(w._site, QtCore.Qt.Key_Return)
+    assert "latitude" in w.message and w.site == site and w._site.text() == "48.85,2.35"
+    w._time_text.setText("the longest day")
+    qtbot.keyClick(w._time_text, QtCore.Qt.Key_Return)
+    assert "ISO 8601" in w.message and w._time == time and scene.sun == sun
+    assert not w.set_sun_angles(elevation=float("nan")) and "elevation" in w.message
+    type_into(qtbot, w._exposure, "7")
+    assert "exposure" in w.message and scene.settings.exposure == 1e-4
+    assert np.array_equal(picture(w), shown)
 
     # The probe: a click on the sky from the ground, read per pixel, against the tables' NumPy evaluator along
     # the same pixel's direction. The shader and the evaluator are twins (tests/test_stability_shader.py bounds
