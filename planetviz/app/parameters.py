@@ -11,6 +11,7 @@ extinction at least its scattering), is refused with the field named and its ran
 from __future__ import annotations
 
 import copy
+import math
 from typing import Callable, NamedTuple
 
 import numpy as np
@@ -33,6 +34,12 @@ class Parameter(NamedTuple):
     def allowed_range(self, base) -> tuple:
         """(lo, hi) in the label's unit."""
         return tuple(self.allowed(base)) if self.allowed is not None else tuple(self.slider)
+
+
+def _any_finite(b):
+    """allowed(b) of a row whose field the atmosphere's reader checks itself (the advanced quantities, the
+    turbidity through the coefficients it makes): any finite number here, the reader's range in its refusal."""
+    return -math.inf, math.inf
 
 
 def _scaled(values, factor):
@@ -96,7 +103,7 @@ STANDARD = [
               lambda d, b, v: d["mie"].update(scattering_m=_scaled(b["mie"]["scattering_m"], v),
                                               extinction_m=_scaled(b["mie"]["extinction_m"], v)),
               _factor_range(lambda b: b["mie"]["extinction_m"])),
-    Parameter("turbidity T (Eq. 17: Junge 4, K 0.0092)", (1.0, 10.0), turbidity_of, set_turbidity),
+    Parameter("turbidity T (Eq. 17: Junge 4, K 0.0092)", (1.0, 10.0), turbidity_of, set_turbidity, _any_finite),
     Parameter("Rayleigh scale height [km]", (0.5, 50.0),
               lambda d, b: d["rayleigh"]["profile"]["scale_height_m"] / 1e3,
               lambda d, b, v: d["rayleigh"]["profile"].update(scale_height_m=v * 1e3),
@@ -121,14 +128,15 @@ STANDARD = [
 
 def advanced_parameters(source_base):
     """Advanced mode: the physical quantities of the paper's Table 1 "(A)" in the file form (a row whose field the
-    file lacks reads as None and is not shown); the "x" rows scale ``source_base``'s values."""
-    return [
+    file lacks reads as None and is not shown); the "x" rows scale ``source_base``'s values. The advanced reader
+    (planetviz/model/advanced.py) checks each quantity's range, so these rows take any finite number."""
+    rows = [
         Parameter("molecular refractivity (n - 1) x", (0.1, 10.0),
                   lambda d, b: 1.0 if "refractive_index" in d["rayleigh"] else None,
                   lambda d, b, v: d["rayleigh"].update(refractive_index=[
                       1.0 + (n - 1.0) * v for n in source_base["rayleigh"]["refractive_index"]])),
         Parameter("number density N [1/m3]", (1e22, 1e27), lambda d, b: d["rayleigh"]["number_density_m3"],
-                  lambda d, b, v: d["rayleigh"].update(number_density_m3=v), lambda b: LIMITS["density"]),
+                  lambda d, b, v: d["rayleigh"].update(number_density_m3=v)),
         Parameter("surface pressure [kPa]", (1.0, 2000.0), lambda d, b: d["rayleigh"]["surface_pressure_pa"] / 1e3,
                   lambda d, b, v: d["rayleigh"].update(surface_pressure_pa=v * 1e3)),
         Parameter("depolarisation delta", (0.0, 0.5), lambda d, b: d["rayleigh"]["depolarization"],
@@ -157,6 +165,8 @@ def advanced_parameters(source_base):
         Parameter("ground albedo", LIMITS["ground_albedo"], lambda d, b: d["ground_albedo"][0],
                   lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
     ]
+    return [row if row.allowed is not None or row.label == "ground albedo" else row._replace(allowed=_any_finite)
+            for row in rows]
 
 
 def current_value(row, source, base):

@@ -226,7 +226,8 @@ class PlanetWindow(QtWidgets.QMainWindow):
                 continue                                # not in this atmosphere's form
             lo, hi = row.allowed_range(self._base)
             box = NumberBox(value)
-            box.setToolTip(f"{row.label}: allowed {lo:g} to {hi:g}")
+            box.setToolTip(f"{row.label}: allowed {lo:g} to {hi:g}" if np.isfinite([lo, hi]).all()
+                           else f"{row.label}: its range is the atmosphere file reader's")
             box.valueChanged.connect(lambda v, row=row: self.set_parameter(row.label, v))
             self._parameters.addRow(row.label, box)
             self._boxes[row.label] = box
