@@ -1,7 +1,9 @@
-"""The quick view (Keller and Bohn, no tables): error against sample counts, power-law against equidistant
-sampling, what single scattering alone misses, and frame time.
+"""The quick view (no 4D tables): Keller and Bohn's single scattering against sample counts, power-law against
+equidistant sampling, what single scattering alone misses; the orders above the first from Hillaire's table
+against the tables; pictures against the per-pixel tables per view; frame time.
 
     python benchmarks/quick_view.py [--presets earth mars exo-co2-thick] [--plot docs/img/quick-view.png]
+    VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow python benchmarks/quick_view.py --views     # + pictures
     VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow python benchmarks/quick_view.py --frames 3   # + frame time
 
 Errors on the fixed query set of benchmarks/tables_pareto.py (200 rays per atmosphere), relative, over
@@ -84,21 +86,156 @@ def accuracy(presets, plot):
         print(f"plot: {plot}")
 
 
+def all_orders(presets):
+    """The quick view with Hillaire's table (orders above the first, the sky's light on the ground) against the
+    standard 4D tables read by the NumPy evaluator, on the same query set: day (the sun 2 deg up or more where
+    the ray looks) and twilight (0 to -6 deg), over radiances above 1e-5 of the set's largest; and the time to
+    make the table."""
+    from planetviz.quick_view.multiple_scattering import quick_view_tables
+    from planetviz.tables import QUALITY, TableCache, precompute
+    from planetviz.tables.evaluator import sky_radiance
+    print("\n| atmosphere | orders | n | table ms | day RMS | day p99 | twilight RMS | twilight p99 |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name in presets:
+        atm = load_atmosphere(name)
+        q = query_set(atm)
+        want, _ = sky_radiance(precompute(atm, QUALITY["standard"], cache=TableCache()), atm, *q[:3])
+        el = q[3][:, None]
+        ok = want > 1e-5 * want.max()
+        day, dusk = ok & (el >= 2), ok & (el < 2) & (el >= -6)
+        best = np.inf
+        for _ in range(3):
+            t0 = time.perf_counter()
+            psi, sky = quick_view_tables(atm)
+            best = min(best, time.perf_counter() - t0)
+        for orders, multiple, ground_sky in (("single", None, None), ("all", psi, sky)):
+            for n in (8, 16):
+                got, _ = quick_view_radiance(atm, *q[:3], samples=n, multiple=multiple, ground_sky=ground_sky)
+                rel = np.abs(got / np.where(want > 0, want, 1.0) - 1.0)
+                cells = [f"{np.sqrt(np.mean(rel[m] ** 2)):.4f} | {np.percentile(rel[m], 99):.4f}" for m in (day, dusk)]
+                ms = f"{1e3 * best:.0f}" if multiple is not None else "-"
+                print(f"| {name} | {orders} | {n} | {ms} | {cells[0]} | {cells[1]} |", flush=True)
+
+
+def random_atmospheres(split, count):
+    """The quick view (single scattering; all orders) against the standard 4D tables read by the NumPy evaluator
+    on ``count`` random legal atmospheres of ``split`` (planetviz.validation.random_suite), 6 daylight rays per
+    camera class each; relative error over radiances above 1e-6 of each atmosphere's largest."""
+    from planetviz.quick_view.multiple_scattering import quick_view_tables
+    from planetviz.tables import QUALITY, precompute
+    from planetviz.tables.evaluator import sky_radiance
+    from planetviz.validation.random_suite import CAMERAS, SPLITS, random_atmosphere, rays
+    errors_of = {("single", c): [] for c in CAMERAS} | {("all", c): [] for c in CAMERAS}
+    for seed in list(SPLITS[split])[:count]:
+        atm = random_atmosphere(seed)
+        tables = precompute(atm, QUALITY["standard"], cache=None)
+        psi, sky = quick_view_tables(atm)
+        for k, camera_class in enumerate(CAMERAS):
+            cams, views, suns = rays(atm, 10 * seed + k, camera_class, "day", n=6)[:3]
+            for c, v, s in zip(cams, views, suns):
+                want = sky_radiance(tables, atm, c[None], v[None], s)[0][0]
+                for orders, multiple, ground_sky in (("single", None, None), ("all", psi, sky)):
+                    got = quick_view_radiance(atm, c[None], v[None], s, samples=8, multiple=multiple,
+                                              ground_sky=ground_sky)[0][0]
+                    errors_of[orders, camera_class].append(np.stack([got, want]))
+    print(f"\n{split}: {count} random atmospheres, 6 daylight rays per camera class, quick view (n = 8) against "
+          "the standard tables: RMS relative error")
+    print("| orders | all rays: RMS | median | p95 | " + " | ".join(CAMERAS) + " |")
+    print("|---|---|---|---|" + "---|" * len(CAMERAS))
+    for orders in ("single", "all"):
+        per_class, every = [], []
+        for c in CAMERAS:
+            pairs = np.array(errors_of[orders, c])                    # (rays, 2, W)
+            got, want = pairs[:, 0], pairs[:, 1]
+            ok = want > 1e-6 * want.max()
+            rel = np.abs(got[ok] / want[ok] - 1.0)
+            every.append(rel)
+            per_class.append(f"{np.sqrt(np.mean(rel ** 2)):.3f}")
+        rel = np.concatenate(every)
+        print(f"| {orders} | {np.sqrt(np.mean(rel ** 2)):.3f} | {np.median(rel):.3f} | {np.percentile(rel, 95):.3f} | "
+              + " | ".join(per_class) + " |", flush=True)
+
+
+#: Views of the pictures' comparison: (camera call, keywords, sun keywords).
+VIEWS = {
+    "orbit, day": ("view_from_space", dict(latitude=20, longitude=10), dict(elevation=30, azimuth=100)),
+    "orbit, terminator": ("view_from_space", dict(latitude=0, longitude=0), dict(elevation=0, azimuth=90)),
+    "limb from 400 km": ("view_from_ground", dict(latitude=20, altitude=4e5, heading=90, pitch=-17, fov=40),
+                         dict(elevation=20, azimuth=90)),
+    "aircraft, 10 km": ("view_from_ground", dict(latitude=45, altitude=1e4, heading=90, pitch=0),
+                        dict(elevation=20, azimuth=120)),
+    "ground, noon": ("view_from_ground", dict(latitude=45, heading=180, pitch=10), dict(elevation=60, azimuth=180)),
+    "ground, sunset": ("view_from_ground", dict(latitude=45, heading=270, pitch=2), dict(elevation=2, azimuth=270)),
+    "ground, twilight": ("view_from_ground", dict(latitude=45, heading=270, pitch=2), dict(elevation=-4, azimuth=270)),
+}
+
+
+def views(presets, size):
+    """The quick view's pictures (single scattering; all orders) against the per-pixel 4D tables', the same
+    frames in CIE Y (``render_hdr``), the relative difference floored at 1% of the frame's 99th percentile (a
+    pixel darker than that counts against that level), the sun's disc left out; the atmosphere's uniform albedo
+    (the quick view has no surface texture)."""
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+    from planetviz.render import Scene
+    w, h = (int(v) for v in size.split("x"))
+    print(f"\n{size}: quick view against the per-pixel standard tables, CIE Y, floored at 1% of the frame's p99")
+    print("| atmosphere | view | single: RMS | p99 | all orders: RMS | p99 |")
+    print("|---|---|---|---|---|---|")
+    for name in presets:
+        scenes = {kind: Scene(name, quality="standard", surface=None, off_screen=True, window_size=(w, h),
+                              shading="pixel", method="tables" if kind == "tables" else "quick",
+                              quick_orders=kind if kind != "tables" else "all")
+                  for kind in ("tables", "single", "all")}
+        try:
+            for view, (call, camera, sun) in VIEWS.items():
+                y = {}
+                for kind, scene in scenes.items():
+                    scene.settings.show_sun = False
+                    getattr(scene, call)(**camera)
+                    scene.set_sun(**sun, latitude=camera["latitude"], longitude=camera.get("longitude", 0.0))
+                    y[kind] = scene.render_hdr().linear_srgb[..., 1]
+                floor = 0.01 * np.percentile(y["tables"], 99)
+                cells = []
+                for kind in ("single", "all"):
+                    rel = np.abs(y[kind] - y["tables"]) / np.maximum(y["tables"], floor)
+                    cells.append(f"{np.sqrt(np.mean(rel ** 2)):.4f} | {np.percentile(rel, 99):.4f}")
+                print(f"| {name} | {view} | {cells[0]} | {cells[1]} |", flush=True)
+        finally:
+            for scene in scenes.values():
+                scene.close()
+
+
 def frame_times(size, frames):
+    """The quick view's frame time from the ground, single scattering and all orders, and the time from a change
+    of the atmosphere to its next frame (the tables of the orders above the first made in NumPy first)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     from planetviz.render import Scene
     from render_timing import frame_ms
     w, h = (int(v) for v in size.split("x"))
-    print(f"\n| quick view, {size} | ms per frame (median of {frames}) | vertices |")
-    print("|---|---|---|")
+    print(f"\n| quick view, {size} | orders | ms per frame (median of {frames}) | change to first frame, ms | "
+          "change to the frame with all orders, ms | vertices |")
+    print("|---|---|---|---|---|---|")
     for n in (4, 8, 16):
-        scene = Scene("earth", off_screen=True, window_size=(w, h), method="quick", quick_samples=n)
-        scene.view_from_ground(latitude=45, heading=90, pitch=5)
-        scene.screenshot()
-        ms = frame_ms(scene, frames)
-        verts = scene.quick.mapper.GetInput().GetNumberOfPoints()
-        print(f"| n = {n}, ground | {ms:.1f} | {verts} |", flush=True)
-        scene.close()
+        for orders in ("single", "all"):
+            scene = Scene("earth", off_screen=True, window_size=(w, h), method="quick", quick_samples=n,
+                          quick_orders=orders)
+            scene.view_from_ground(latitude=45, heading=90, pitch=5)
+            scene.screenshot()
+            ms = frame_ms(scene.ren_win, frames)
+            first, whole = [], []
+            for k in range(frames):
+                albedo = 0.2 + 0.1 * (k % 2)
+                t0 = time.perf_counter()
+                scene.set_atmosphere(scene.atmosphere.replace(ground_albedo=(albedo,) * 3))
+                scene.render()
+                first.append(1e3 * (time.perf_counter() - t0))
+                while scene.quick_pending:                  # an interactive window renders on until it is whole
+                    scene.render()
+                whole.append(1e3 * (time.perf_counter() - t0))
+            verts = scene.quick.mapper.GetInput().GetNumberOfPoints()
+            print(f"| n = {n}, ground | {orders} | {ms:.1f} | {np.median(first):.0f} | {np.median(whole):.0f} | "
+                  f"{verts} |", flush=True)
+            scene.close()
 
 
 def main():
@@ -106,9 +243,17 @@ def main():
     ap.add_argument("--presets", nargs="+", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--plot", default=None)
     ap.add_argument("--frames", type=int, default=0, help="also time frames (needs OpenGL)")
+    ap.add_argument("--views", action="store_true", help="also compare pictures per view (needs OpenGL)")
     ap.add_argument("--size", default="1280x720")
+    ap.add_argument("--views-size", default="320x200")
+    ap.add_argument("--random", type=int, default=0, help="also this many random atmospheres per split")
     args = ap.parse_args()
     accuracy(args.presets, args.plot)
+    all_orders(args.presets)
+    for split in ("tuning", "held-out") if args.random else ():
+        random_atmospheres(split, args.random)
+    if args.views:
+        views(args.presets, args.views_size)
     if args.frames:
         frame_times(args.size, args.frames)
 

@@ -1,7 +1,10 @@
-// Quick view: Keller and Bohn's single scattering computed per vertex, with no tables (after common.glsl).
-// The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction from the camera to the
-// vertex, L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i plus the sunlit ground, with the
-// midpoint rule on (i / n)^view_exponent and each optical depth on (j / m)^density_exponent.
+// Quick view: Keller and Bohn's single scattering computed per vertex, with no 4D tables (after common.glsl).
+// The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction from the
+// camera to the vertex, L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i plus the sunlit ground, with
+// the midpoint rule on (i / n)^view_exponent and each optical depth on (j / m)^density_exponent. With
+// multiple_scattering = 1, the orders above the first from Hillaire's table Psi_ms(h, mu_s)
+// (planetviz/quick_view/multiple_scattering.py): sum_i Delta_i beta_s(h_i) Psi_ms exp(-tau(x, p_i)), and the sky's
+// irradiance on the ground E_sky(mu_s) added to the sun's.
 //
 // Uniforms:
 //   camera_position        vec3   planet-centred camera position [m]
@@ -27,6 +30,13 @@
 //   output_mode            int    0 and 2: linear sRGB; 1: the radiance at wavelengths 3k .. 3k + 2
 //                                 (k = output_triple) per unit solar irradiance [1/sr]
 //   output_triple          int    k of output_mode 1
+//   multiple_scattering    int    1: add the orders above the first and the sky's light on the ground; 0: single
+//                                 scattering alone (Keller and Bohn)
+//   multiple_scattering_texture  sampler2D  Psi_ms [1/sr per unit solar irradiance], rows: altitudes
+//                                 H (i / (n_h - 1))^2 (H the thickness), columns: mu_s = sign(x) x^2, x uniform in
+//                                 [-1, 1]; groups of four wavelengths stacked along y (textures.py pack_2d)
+//   ground_sky_texture     sampler2D  E_sky [per unit solar irradiance] over the same mu_s, one row per group
+//   multiple_scattering_size  vec2  (n_mu_s, n_h) of multiple_scattering_texture
 // Output: quick_view_value (vec3), interpolated over the triangles.
 
 #define MAX_COMPONENTS 6
@@ -50,6 +60,10 @@ uniform vec4 surface_albedo[MAX_GROUPS];
 uniform vec4 rgb_weights[3 * MAX_GROUPS];
 uniform int output_mode;
 uniform int output_triple;
+uniform int multiple_scattering;
+uniform sampler2D multiple_scattering_texture;
+uniform sampler2D ground_sky_texture;
+uniform vec2 multiple_scattering_size;
 
 out vec3 quick_view_value;
 
@@ -63,6 +77,28 @@ float profile_density(int k, float h) {
     int i = min(int(x), PROFILE_TABLE_SIZE - 2);
     float f = x - float(i);
     return mix(component_table[k * PROFILE_TABLE_SIZE + i], component_table[k * PROFILE_TABLE_SIZE + i + 1], f);
+}
+
+// Column coordinate in [0, 1] of a cosine on the tables' grid sign(x) x^2 (cosine_grid in NumPy).
+float cosine_coordinate(float mu) {
+    mu = clamp(mu, -1.0, 1.0);
+    return (sign(mu) * sqrt(abs(mu)) + 1.0) / 2.0;
+}
+
+// Psi_ms of group g at altitude h and sun zenith cosine mu_s: bilinear between texel centres, as read_table in NumPy.
+vec4 multiple_scattering_at(float h, float mu_s, int g) {
+    vec2 n = multiple_scattering_size;
+    float x = cosine_coordinate(mu_s) * (n.x - 1.0);
+    float y = sqrt(clamp(h / (top_radius - bottom_radius), 0.0, 1.0)) * (n.y - 1.0);
+    vec2 uv = vec2((x + 0.5) / n.x, (float(g) * n.y + y + 0.5) / (float(group_count) * n.y));
+    return texture(multiple_scattering_texture, uv);
+}
+
+// E_sky of group g on the ground where the sun's zenith cosine is mu_s.
+vec4 ground_sky_irradiance(float mu_s, int g) {
+    float n = multiple_scattering_size.x;
+    float x = cosine_coordinate(mu_s) * (n - 1.0);
+    return texture(ground_sky_texture, vec2((x + 0.5) / n, (float(g) + 0.5) / float(group_count)));
 }
 
 // Edges (i / n)^e of the midpoint rule.
@@ -130,21 +166,31 @@ vec4 quick_view_radiance(vec3 v, int g) {
         float b = sample_edge(i + 1, view_samples, view_exponent);
         float t = 0.5 * (a + b) * path;
         vec3 p = x + t * v;
-        if (in_shadow(p)) continue;
         float h = length(p) - bottom_radius;
-        vec4 j = rayleigh_scattering[g] * profile_density(0, h) * p_r + mie_scattering[g] * profile_density(1, h) * p_m;
-        vec4 tau = path_optical_depth(x, v, t, g)
-                 + path_optical_depth(p, sun_direction, distance_to_top_exit(p, sun_direction), g);
+        float rho_r = profile_density(0, h), rho_m = profile_density(1, h);
+        vec4 tau_view = path_optical_depth(x, v, t, g);
+        if (multiple_scattering == 1) {
+            vec4 beta_s = rayleigh_scattering[g] * rho_r + mie_scattering[g] * rho_m;
+            l += (b - a) * path * beta_s * multiple_scattering_at(h, dot(p, sun_direction) / length(p), g)
+               * exp(-tau_view);
+        }
+        if (in_shadow(p)) continue;
+        vec4 j = rayleigh_scattering[g] * rho_r * p_r + mie_scattering[g] * rho_m * p_m;
+        vec4 tau = tau_view + path_optical_depth(p, sun_direction, distance_to_top_exit(p, sun_direction), g);
         l += (b - a) * path * j * exp(-tau);
     }
     if (ground) {
         vec3 y = x + path * v;
         vec3 n = normalize(y);
-        float cos_s = max(dot(n, sun_direction), 0.0);
+        float mu_s = dot(n, sun_direction);
+        float cos_s = max(mu_s, 0.0);
+        vec4 irradiance = vec4(0.0);
         if (cos_s > 0.0) {
-            vec4 t_view = exp(-path_optical_depth(x, v, path, g));
-            vec4 t_sun = exp(-path_optical_depth(y, sun_direction, distance_to_top_exit(y, sun_direction), g));
-            l += t_view * surface_albedo[g] / PI * cos_s * t_sun;
+            irradiance = cos_s * exp(-path_optical_depth(y, sun_direction, distance_to_top_exit(y, sun_direction), g));
+        }
+        if (multiple_scattering == 1) irradiance += ground_sky_irradiance(mu_s, g);
+        if (any(greaterThan(irradiance, vec4(0.0)))) {
+            l += exp(-path_optical_depth(x, v, path, g)) * surface_albedo[g] / PI * irradiance;
         }
     }
     return l;

@@ -1,5 +1,6 @@
-"""The quick view (Keller and Bohn per vertex): the vertex shader against its NumPy twin, the adaptive mesh,
-and the progressive switch between the quick view and the tables."""
+"""The quick view (per vertex, no 4D tables): the vertex shader against its NumPy twin (single scattering with
+and without Hillaire's table for the orders above), the adaptive mesh, and the progressive switch between the
+quick view and the tables."""
 import os
 
 import numpy as np
@@ -22,15 +23,20 @@ def quick():
     scene.close()
 
 
-@pytest.mark.parametrize("view", ["ground", "standing", "aircraft", "space", "artistic"])
+@pytest.mark.parametrize("view", ["ground", "standing", "aircraft", "space", "artistic", "single", "twilight"])
 def test_vertex_shader_matches_its_numpy_twin(quick, view):
     # One vertex per sampled pixel (a point cloud at the pixels' directions), so each pixel holds one vertex's
     # value with no interpolation: the GLSL and NumPy integrators must agree. Both evaluate the same sums; the
     # shader in float32 (positions to 0.5 m at 6.4e6 m, exp of optical depths to 1e-7 relative): bound 2e-3,
     # measured 2e-4. "standing": 1.7 m up looking 2 deg down, the sun low ahead, where the aerial perspective
     # of the near ground is proportional to the camera's height (a float32 camera radius, 1.5 m, read 6% off).
+    # "twilight": the sun 4 deg down, where only the orders above the first light the sky and the ground.
     terms = "artistic" if view == "artistic" else "physical"
-    if view in ("ground", "artistic"):
+    orders = "single" if view == "single" else "all"
+    if view == "twilight":
+        quick.view_from_ground(latitude=20, altitude=2.0, heading=80, pitch=-3, fov=70)
+        quick.set_sun(elevation=-4, azimuth=100, latitude=20, longitude=0)
+    elif view in ("ground", "artistic", "single"):
         quick.view_from_ground(latitude=20, altitude=2.0, heading=80, pitch=5, fov=70)
         quick.set_sun(elevation=15, azimuth=100, latitude=20, longitude=0)
     elif view == "standing":
@@ -44,16 +50,19 @@ def test_vertex_shader_matches_its_numpy_twin(quick, view):
         quick.set_sun(elevation=40, azimuth=120, latitude=10, longitude=20)
     rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
     dirs = quick.pixel_directions(rows, cols).reshape(-1, 3)
-    quick.quick_terms = terms
-    quick.set_atmosphere(quick.atmosphere)                 # rebuilds the quick view with these terms
+    quick.quick_terms, quick.quick_orders = terms, orders
+    quick.set_atmosphere(quick.atmosphere)                 # rebuilds the quick view with these terms and orders
     quick.quick.directions = dirs
+    actor = quick.quick
     try:
         got = quick.render_hdr().radiance[rows, cols].reshape(-1, 3)
     finally:
-        quick.quick_terms = "physical"
+        quick.quick_terms, quick.quick_orders = "physical", "all"
         quick.set_atmosphere(quick.atmosphere)
+    assert (actor.multiple is None) == (view in ("single", "artistic"))
     want, _ = quick_view_radiance(quick.atmosphere, np.tile(quick.camera_location, (len(dirs), 1)), dirs,
-                                quick.sun_direction, samples=quick.quick_samples, terms=terms)
+                                  quick.sun_direction, samples=quick.quick_samples, terms=terms,
+                                  multiple=actor.multiple, ground_sky=actor.ground_sky)
     seen = want.max(-1) > 0
     assert seen.sum() > 50 and np.array_equal(got.max(-1) > 0, seen)
     assert np.max(np.abs(got - want)[seen] / want[seen]) < 2e-3

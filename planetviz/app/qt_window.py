@@ -624,8 +624,9 @@ class PlanetWindow(QtWidgets.QMainWindow):
             self._progress.setValue(int(100 * job[1]))
 
     def _tick(self):
-        if self.scene.precompute_progress is not None or (self.scene.renderer_in_use == "quick"
-                                                         and self._method.currentText() == "tables"):
+        s = self.scene
+        if s.precompute_progress is not None or s.quick_pending or (s.renderer_in_use == "quick"
+                                                                   and self._method.currentText() == "tables"):
             self.refresh()
 
     def closeEvent(self, event):

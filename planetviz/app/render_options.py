@@ -20,6 +20,7 @@ from pathlib import Path
 
 from ..model.geometry import EYE_HEIGHT_M
 from ..model.presets import PRESETS
+from ..quick_view.multiple_scattering import ORDERS
 from ..tables.compact import TABLE_KINDS
 
 
@@ -60,13 +61,16 @@ def add_render_options(p):
     p.add_argument("--tables", choices=TABLE_KINDS, default="4d",
                    help="tables drawn: 4d, or compact (a third of the GPU memory, less accurate: docs/benchmarks.md)")
     p.add_argument("--method", choices=("tables", "quick"), default="tables",
-                   help="tables (all orders) or the quick view (single scattering, no precompute)")
+                   help="tables (all orders) or the quick view (no 4D tables, no precompute)")
     p.add_argument("--shading", choices=("pixel", "vertex", "auto"), default=None,
                    help="tables read per pixel or per vertex (auto: per vertex on a software OpenGL); "
                         "default: pixel for pictures, auto for the window")
     p.add_argument("--samples", type=int, default=8, help="quick: points per path")
     p.add_argument("--terms", choices=("physical", "artistic"), default="physical",
                    help="quick: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
+    p.add_argument("--quick-orders", choices=ORDERS, default="all",
+                   help="quick: all orders (single scattering and Hillaire's table for the orders above) or "
+                        "single scattering alone")
     p.add_argument("--size", type=_size, default=(960, 540), help="WIDTHxHEIGHT")
     p.add_argument("--screenshot", default=None, help="PNG of the tone-mapped view (batch: the name's stem)")
     p.add_argument("--exr", default=None, help="OpenEXR of the linear radiance (batch: the name's stem)")
@@ -196,7 +200,7 @@ def run_render(args) -> int:
     scene = Scene(args.atmosphere, quality=args.quality, surface=None if args.uniform_albedo else "texture",
                   exposure=args.exposure, tone_mapping=args.tone_mapping, window_size=args.size,
                   off_screen=True, method=args.method, shading=_shading(args), quick_samples=args.samples,
-                  quick_terms=args.terms, tables=args.tables)
+                  quick_terms=args.terms, quick_orders=args.quick_orders, tables=args.tables)
     try:
         set_view(scene, view_keywords(args))
         scene.set_sun(elevation=args.sun_elevation, azimuth=args.sun_azimuth, latitude=args.latitude,
@@ -220,7 +224,7 @@ def _run_sequence(args, times):
     settings = SceneSettings(atm.to_json(), quality=args.quality, surface=None if args.uniform_albedo else "texture",
                              exposure=args.exposure, tone_mapping=args.tone_mapping, size=tuple(args.size),
                              method=args.method, shading=_shading(args), quick_samples=args.samples,
-                             quick_terms=args.terms, tables=args.tables)
+                             quick_terms=args.terms, quick_orders=args.quick_orders, tables=args.tables)
     frames = sequence_frames(args, atm.bottom_radius_m, times)
     bar = _Bar(len(frames), "time-lapse" if times else "sun sweep" if args.sweep_sun else "flight")
     rendered = run_sequence(settings, frames, workers=workers or None, scheduler=args.scheduler,

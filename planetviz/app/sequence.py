@@ -50,6 +50,7 @@ class SceneSettings:
     shading: str = "pixel"
     quick_samples: int = 8
     quick_terms: str = "physical"
+    quick_orders: str = "all"
     tables: str = "4d"
 
 
@@ -125,7 +126,7 @@ def _scene(settings):
                                   tone_mapping=settings.tone_mapping, window_size=settings.size, off_screen=True,
                                   method=settings.method, shading=settings.shading,
                                   quick_samples=settings.quick_samples, quick_terms=settings.quick_terms,
-                                  tables=settings.tables)
+                                  quick_orders=settings.quick_orders, tables=settings.tables)
     return _SCENES[key]
 
 

@@ -20,8 +20,9 @@ molecular coefficients scaled from the longest wavelength's by (lambda_red / lam
 by (lambda_red / lambda)^2, phases 1 + 0.5 cos^2 and the Henyey-Greenstein lobe without its 1 / (4 pi): not
 normalised, so that radiance is in arbitrary units (the paper's artistic control, never the physical model).
 
-Single scattering only: no multiple scattering, no sky light on the ground; docs/benchmarks.md measures what
-that misses (twilight, thick atmospheres).
+With ``multiple`` and ``ground_sky`` (planetviz/quick_view/multiple_scattering.py), the orders above the first
+and the sky's light on the ground are added from Hillaire's 2D table; without them, single scattering alone (no
+sky light on the ground). docs/benchmarks.md measures both against the tables.
 """
 from __future__ import annotations
 
@@ -90,10 +91,14 @@ def path_optical_depth(extinction, bottom, start, direction, length, m, exponent
 
 
 def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=8, density_samples=None, sampling="power",
-                      terms="physical"):
+                        terms="physical", multiple=None, ground_sky=None):
     """(radiance (N, W), transmittance (N, W)) of single scattering along each ray (and the sunlit ground).
 
-    ``samples``: points n on the view path; ``density_samples``: points m of each optical depth (default n).
+    ``samples``: points n on the view path; ``density_samples``: points m of each optical depth (default n);
+    ``multiple``: a Psi_ms table (planetviz/quick_view/multiple_scattering.py) whose orders above the first are
+    added at the same points (Eq. 11 there), or None for single scattering alone; ``ground_sky``: the sky's
+    irradiance on the ground (n_mu_s, W) over mu_s in [-1, 1] (``ground_sky_irradiance`` there), added to the
+    sun's on the ground, or None.
 
     Example
     -------
@@ -131,6 +136,12 @@ def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=8, density_sampl
          + b_m * atm.mie.profile.density(h)[..., None] * p_m[:, None, :])
     weight = (length[:, None] * width) * lit
     radiance = np.einsum("nk,nkw->nw", weight, j * np.exp(-tau_view - tau_sun))
+    if multiple is not None:
+        from .multiple_scattering import read_table
+        mu_s = np.einsum("nki,nki->nk", p, s_i) / (h + R)
+        beta_s = b_r * atm.rayleigh.profile.density(h)[..., None] + b_m * atm.mie.profile.density(h)[..., None]
+        radiance += np.einsum("nk,nkw->nw", length[:, None] * width,
+                              beta_s * read_table(multiple, atm, h, mu_s) * np.exp(-tau_view))
 
     transmittance = np.exp(-path_optical_depth(extinction, R, x, v, length, m, e_depth))
     if np.any(hits):
@@ -139,6 +150,10 @@ def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=8, density_sampl
         cos_s = np.maximum(np.einsum("ni,ni->n", normal, s[hits]), 0.0)
         t_sun = np.exp(-path_optical_depth(extinction, R, y, s[hits], distance_to_top_exit(y, s[hits], top),
                                            m, e_depth))
-        radiance[hits] += (transmittance[hits] * np.asarray(atm.ground_albedo) / np.pi * cos_s[:, None]
-                           * t_sun)
+        irradiance = cos_s[:, None] * t_sun
+        if ground_sky is not None:
+            from .multiple_scattering import read_table
+            mu_s = np.einsum("ni,ni->n", normal, s[hits])
+            irradiance = irradiance + read_table(ground_sky[None], atm, np.zeros_like(mu_s), mu_s)
+        radiance[hits] += transmittance[hits] * np.asarray(atm.ground_albedo) / np.pi * irradiance
     return radiance, transmittance

@@ -18,6 +18,7 @@ from ..model.geometry import EYE_HEIGHT_M, SunPlacement, local_frame, site_direc
 from ..model.presets import load_atmosphere
 from ..model.color import linear_srgb
 from ..model.optics.light import star_irradiance
+from ..quick_view.multiple_scattering import ORDERS
 from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.compact import TABLE_KINDS, tables_of_kind
 from ..tables.precompute import QUALITY, precompute
@@ -88,8 +89,10 @@ class PlanetView:
 
     def __init__(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
                  tone_mapping="exponential", cache=True, method="tables", shading="pixel", quick_samples=8,
-                 quick_terms="physical", tables="4d", **kwargs):
+                 quick_terms="physical", quick_orders="all", tables="4d", **kwargs):
         self._job = None                      # a background precompute (render() may run inside __init__)
+        self.planet = None                    # the table-based actor (None while its tables are computed)
+        self.quick = None                     # the quick-view actor, made on first use
         self._auto_shading = False
         self.gl_renderer = None               # the OpenGL renderer string, known after the first frame
         super().__init__(**kwargs)
@@ -107,9 +110,8 @@ class PlanetView:
         self._shading = "vertex" if shading == "auto" else shading
         self._auto_shading = shading == "auto"
         self.renderer.AddObserver(vtkCommand.EndEvent, self._note_gl_renderer)
-        self.planet = None                    # the table-based actor (None while its tables are computed)
-        self.quick = None                     # the quick-view actor, made on first use
-        self.quick_samples, self.quick_terms = quick_samples, quick_terms
+        _one_of("quick_orders", quick_orders, ORDERS)
+        self.quick_samples, self.quick_terms, self.quick_orders = quick_samples, quick_terms, quick_orders
         self.table_error = None               # why the last background precompute failed, if it did
         self.sun = SunPlacement(*SUN_DEFAULT)
         self._sun = self.sun.direction()
@@ -217,9 +219,11 @@ class PlanetView:
         return None if self._job is None else self._job.progress
 
     def render(self):
-        """Render, first switching to the tables if a background precompute has finished (and settling
-        ``shading="auto"`` once the OpenGL renderer is known)."""
+        """Render, first switching to the tables if a background precompute has finished, and the quick view to
+        all orders if their table is ready (and settling ``shading="auto"`` once the OpenGL renderer is known)."""
         self._collect_tables()
+        if self.quick is not None:
+            self.quick.collect()
         if self._auto_shading and self.gl_renderer is not None:
             self._auto_shading = False
             self.set_shading("vertex" if is_software_renderer(self.gl_renderer) else "pixel")
@@ -261,7 +265,7 @@ class PlanetView:
 
     def _show_quick(self):
         self.quick = QuickViewActor(self._atmosphere, self.renderer, samples=self.quick_samples,
-                                   terms=self.quick_terms, settings=self.settings)
+                                    terms=self.quick_terms, settings=self.settings, orders=self.quick_orders)
         self.quick.sun_direction = self._sun
         self.add_actor(self.quick.actor, reset_camera=False, name="quick-view")
 
@@ -384,8 +388,19 @@ class PlanetView:
         self.set_view(up * (self.atmosphere.bottom_radius_m + altitude),
                       site_direction(pitch, heading, latitude, longitude), fov=fov)
 
+    @property
+    def quick_pending(self):
+        """True while the quick view shows single scattering and its table of the orders above is computed."""
+        return self.quick is not None and self.quick.pending
+
+    def _complete_quick_view(self):
+        """Pictures for output show the whole quick view: wait for its table of the orders above the first."""
+        if self.quick is not None:
+            self.quick.collect(wait=True)
+
     def screenshot(self, filename=None, **kwargs):
         """The current view as 8-bit sRGB (tone-mapped), rendered afresh (PyVista reuses the last frame)."""
+        self._complete_quick_view()
         self.render()
         return super().screenshot(filename, **kwargs)
 
@@ -394,6 +409,7 @@ class PlanetView:
         """Linear radiance of the current view as an :class:`HDRImage` (float32, read back from a float
         framebuffer, not tone-mapped); with ``path``, also written as OpenEXR."""
         self._collect_tables()
+        self._complete_quick_view()
         atm = self.atmosphere
         radiance = render_spectral(self.active_actor, self.ren_win)
         spectral = radiance * star_irradiance(atm.star, atm.wavelengths_nm).astype(np.float32)
@@ -443,8 +459,10 @@ class Scene(PlanetView, pv.Plotter):
         sun disc per pixel: about 20x faster on a software renderer, within the interpolation error measured in
         docs/benchmarks.md) or ``"auto"`` (``"vertex"`` on a software OpenGL such as llvmpipe, else
         ``"pixel"``; decided after the first frame).
-    quick_samples, quick_terms : int, str
-        The quick view's points per path and terms (``"physical"`` or Keller and Bohn's ``"artistic"``).
+    quick_samples, quick_terms, quick_orders : int, str, str
+        The quick view's points per path, terms (``"physical"`` or Keller and Bohn's ``"artistic"``) and orders
+        of scattering (``"all"``: single scattering and Hillaire's table for the orders above, with the sky's
+        light on the ground; ``"single"``: Keller and Bohn's single scattering alone).
     tables : str
         Which tables are drawn: ``"4d"`` (the precomputed 4D tables) or ``"compact"`` (Atmosphere Plus's 3D tables
         made from them, for machines short of GPU memory: a third of the memory, without the sun-view azimuth
