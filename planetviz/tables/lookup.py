@@ -16,6 +16,8 @@ from .sampling import texture2d
 ZERO_FLOOR = 1e-3
 #: Values are raised to this before their logarithm (the smallest normal float32 is 1.2e-38).
 SMALLEST = 1e-37
+#: A ray whose 1 - T is below this is empty: the mean source function of the multiple-scattering tables is 0 there.
+EMPTY_RAY_OPACITY = 1e-30
 
 
 def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .lookup import (SMALLEST, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
+from .lookup import (EMPTY_RAY_OPACITY, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, ground_row_factor, ray_opacity)
 from .nodes import (LONG_RAY_NODE_FACTOR, integration_grid, is_optically_thick, ray_nodes, scattering_grid,
                     split_ray_nodes)
@@ -209,7 +209,7 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
     ``lookup.ray_opacity`` folded in, against J's 2W channels)]."""
     r, mu, mu_s, nu, ground, d = integration_grid(tables, size)
     r2, mu2, g2, d2 = r[:, :, 0, 0], mu[:, :, 0, 0], ground[:, :, 0, 0], d[:, :, 0, 0]
-    opacity = np.maximum(ray_opacity(tables, r2, mu2, g2), SMALLEST)   # 0 where the air is too thin (S is 0)
+    opacity = ray_opacity(tables, r2, mu2, g2)
     long_ray = d2 > np.sqrt(tables.top ** 2 - tables.bottom ** 2)
     paths = []
     for long in (False, True):
@@ -221,7 +221,13 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
         stencil, node_weight = _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg, dd,
                                                    n, thick)
         per_opacity = np.concatenate([opacity[rays], opacity[rays]], -1)[:, None, None, None, :]
-        paths.append((rays, stencil, (node_weight / per_opacity).astype(np.float32)))
+        # Where 1 - T is below EMPTY_RAY_OPACITY the ray holds no light a table can show (S < 1e-30 J): its mean
+        # is stored as 0. Dividing there (the weights carry the densities, J the coefficients) overflows float32
+        # and gives inf x 0 = NaN for a component whose coefficient is 0.
+        weight = np.divide(node_weight, per_opacity, out=np.zeros(np.broadcast_shapes(node_weight.shape,
+                                                                                     per_opacity.shape)),
+                           where=per_opacity > EMPTY_RAY_OPACITY)
+        paths.append((rays, stencil, weight.astype(np.float32)))
     return paths
 
 

@@ -70,6 +70,10 @@ def edge_atmosphere(name: str) -> Atmosphere:
         d["absorption"] = [{**a, "extinction_m": a["extinction_m"][1:2]} for a in d["absorption"]]
     elif name == "64 wavelengths":
         d = spectral_earth(64)
+    elif name == "no molecules, low haze":
+        d["rayleigh"]["scattering_m"] = [0.0] * W
+        d["mie"]["profile"]["scale_height_m"] = 115.0           # the air above a few km is empty to float64
+        d["absorption"] = []
     elif name in ("planet 100 km", "planet 1e8 m"):
         radius = 1e5 if name == "planet 100 km" else 1e8
         d["top_radius_m"] = radius + (d["top_radius_m"] - d["bottom_radius_m"])
@@ -81,7 +85,7 @@ def edge_atmosphere(name: str) -> Atmosphere:
 #: their slow run).
 EDGE_NAMES = ("scale heights 10 m", "scale heights 1000 km", "thickness 1 km", "thickness = radius",
               "optical depth 1e-8", "g = 0.99", "g = -0.99", "albedo 0", "albedo 1", "one wavelength",
-              "planet 100 km", "planet 1e8 m", "optical depth 100", "64 wavelengths")
+              "planet 100 km", "planet 1e8 m", "no molecules, low haze", "optical depth 100", "64 wavelengths")
 
 
 def conservative_atmosphere(radius=None, preset="earth", albedo=1.0) -> Atmosphere:
