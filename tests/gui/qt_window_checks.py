@@ -7,6 +7,7 @@ time slider, clicking the picture), then checks what changed and what did not.
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 from qtpy import QtCore
 
@@ -63,6 +64,16 @@ def test_window(qtbot, window, tmp_path):
     dusk = sun_position(*PARIS, parse_time("2026-06-21T21:30+02:00"))
     assert w._time_text.text() == "2026-06-21T21:30+02:00"
     assert np.allclose((scene.sun.elevation, scene.sun.azimuth), dusk, atol=1e-6) and dusk[0] < noon[0] - 50
+
+    # The play button runs the clock (PLAY_STEP_MIN minutes every PLAY_TICK_MS ms) until pressed again.
+    from planetviz.app.qt_window import PLAY_STEP_MIN
+    before_play = w._time
+    qtbot.mouseClick(w._play, QtCore.Qt.LeftButton)
+    qtbot.waitUntil(lambda: w._time >= before_play + pd.Timedelta(minutes=2 * PLAY_STEP_MIN), timeout=10_000)
+    qtbot.mouseClick(w._play, QtCore.Qt.LeftButton)
+    stopped = w._time
+    qtbot.wait(400)
+    assert w._time == stopped and not w._player.isActive()
 
     # A parameter: the ground albedo typed in its box; the atmosphere and the picture (the ground by day from
     # orbit) change.
@@ -132,6 +143,11 @@ def test_window(qtbot, window, tmp_path):
     assert w.save_atmosphere(path) and json.loads(path.read_text())["name"] == "mars"
     assert w.export("screenshot", tmp_path / "shot.png", size=(320, 200)) and (tmp_path / "shot.png").stat().st_size
     assert w.export("exr", tmp_path / "shot.exr", size=(320, 200)) and (tmp_path / "shot.exr").stat().st_size
+    w.camera("ground")                     # a dome master from the ground: the sky fills its circle
+    assert w.export("dome", tmp_path / "dome.png")
+    from PIL import Image
+    dome = np.asarray(Image.open(tmp_path / "dome.png"))
+    assert dome.shape[:2] == (2048, 2048) and dome[1024, 1024].sum() > 0 and dome[0, 0].sum() == 0
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({**json.loads(path.read_text()), "bottom_radius_m": -1.0}))
     assert not w.open_atmosphere(bad) and "bottom_radius_m" in w.message and scene.atmosphere.name == "mars"
