@@ -12,7 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from planetviz.app.render_options import add_render_options, place_site_and_sun, run_render, wants_output
+from planetviz.app.render_options import SITE, add_render_options, place_site_and_sun, run_render, wants_output
 
 
 def main(argv=None):
@@ -24,7 +24,6 @@ def main(argv=None):
     try:
         if wants_output(args):
             return run_render(args)
-        from planetviz.app.window import SITE
         place_site_and_sun(args)
         site = (args.latitude, args.longitude) if args.site else SITE
         atmosphere_file = args.atmosphere if Path(args.atmosphere).is_file() else None

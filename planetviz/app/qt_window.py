@@ -41,8 +41,7 @@ from ..tables.compact import TABLE_KINDS
 from ..tables.precompute import QUALITY
 from .parameters import GEOMETRY, STANDARD, advanced_parameters, apply_parameter, current_value
 from .probe import probe_pixel, sun_vertical
-from .render_options import CAMERA_PRESETS, camera_preset
-from .window import SITE
+from .render_options import CAMERA_PRESETS, SITE, camera_preset
 
 #: Minutes the play button advances the clock per tick, and the tick [ms].
 PLAY_STEP_MIN, PLAY_TICK_MS = 5, 100

@@ -138,6 +138,8 @@ def set_view(scene, view):
     (scene.view_from_space if kind == "space" else scene.view_from_ground)(**view)
 
 
+#: The site the windows look at and see the sun from unless told (``app.py --site``): latitude, longitude [deg].
+SITE = (30.0, 0.0)
 #: The windows' camera presets (:func:`camera_preset`).
 CAMERA_PRESETS = ("orbit", "limb", "aircraft", "ground")
 

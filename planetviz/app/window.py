@@ -25,12 +25,10 @@ from ..model.limits import AtmosphereError
 from ..model.presets import PRESETS, load_atmosphere, load_dict
 from ..render.scene import flight_path
 from .parameters import STANDARD, advanced_parameters, apply_parameter, current_value
-from .render_options import camera_preset
+from .render_options import SITE, camera_preset
 
 PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
 QUALITIES = ("draft", "standard", "high")
-#: The site the window looks at and sees the sun from unless told (``app.py --site``): latitude, longitude [deg].
-SITE = (30.0, 0.0)
 
 
 class PlanetApp:
