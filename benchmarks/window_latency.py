@@ -1,0 +1,55 @@
+"""The Qt window's responsiveness: the time from a parameter change (the ground albedo typed) to its first frame,
+and the longest the event loop waits while the new tables are computed in the background.
+
+    xvfb-run -a -s "-screen 0 1600x1000x24" python benchmarks/window_latency.py [--changes 3]
+
+Standard tables of Earth, the window 1600x900 (the view about 1150x850), the sun from a site and a time; the
+change to the first frame includes Scene.set_atmosphere (the quick view, single scattering first), one frame
+and the status bar.
+"""
+import argparse
+import os
+import time
+
+os.environ.pop("VTK_DEFAULT_OPENGL_WINDOW", None)      # a real window (the OSMesa class cannot be embedded)
+
+from qtpy import QtCore, QtWidgets  # noqa: E402
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--changes", type=int, default=3)
+    args = ap.parse_args()
+    app = QtWidgets.QApplication([])
+    from planetviz.app.qt_window import PlanetWindow
+    window = PlanetWindow("earth", quality="standard", site=(45.0, 0.0), time="2026-06-21T10:00Z")
+    window.resize(1600, 900)
+    window.show()
+    for _ in range(20):
+        app.processEvents()
+        time.sleep(0.02)
+    window.scene.wait_for_tables()
+    window.refresh()
+    scene = window.scene
+    print(f"view {scene.ren_win.GetSize()}, {scene.gl_renderer}, tables per {scene.shading}")
+    print("| change | to first frame, ms | longest event-loop wait while the tables compute, ms | tables, s |")
+    print("|---|---|---|---|")
+    for k in range(args.changes):
+        albedo = 0.35 + 0.05 * k
+        t0 = time.perf_counter()
+        window.set_parameter("ground albedo", albedo)
+        first = 1e3 * (time.perf_counter() - t0)
+        last = start = time.perf_counter()
+        longest = 0.0
+        while scene.precompute_progress is not None or scene.quick_pending:
+            app.processEvents(QtCore.QEventLoop.AllEvents, 10)
+            now = time.perf_counter()
+            longest, last = max(longest, now - last), now
+            time.sleep(0.005)
+        print(f"| albedo {albedo:.2f} | {first:.0f} | {1e3 * longest:.0f} | {time.perf_counter() - start:.1f} |",
+              flush=True)
+    window.close()
+
+
+if __name__ == "__main__":
+    main()
