@@ -1,5 +1,5 @@
-// The table-based model along one view ray, in either stage (after phased_scattering.glsl): where the ray
-// enters the atmosphere, and the three terms whose sum is its radiance, as the NumPy evaluator computes it
+// The table-based model along one view ray, in either stage (after phased_scattering.glsl and view.glsl): where the
+// ray enters the atmosphere, and the three terms whose sum is its radiance, as the NumPy evaluator computes it
 // (planetviz/tables/evaluator.py, sky_radiance):
 //   L = inscatter + albedo * ground_light + [the ray is in the sun's disc] sun_transmittance / sun_solid_angle
 // The per-pixel renderer (atmosphere_fragment.glsl) evaluates all three for every pixel. The per-vertex renderer
@@ -8,47 +8,7 @@
 // changes faster across the screen: the surface texture, the sun's cosine at the ground point (the terminator),
 // the disc; no table is read per pixel there.
 //
-// Uniforms:
-//   camera_position        vec3   planet-centred camera position [m] (float: for directions and the ground point's
-//                                 texture coordinates, never for the camera's height)
-//   camera_altitude        float  |camera_position| - bottom_radius [m], computed in double on the CPU
-//   sun_direction          vec3   unit vector toward the sun
-//   use_surface_texture    int    1: albedo from the surface texture, 0: surface_albedo
-//   albedo_weights         vec4[3 MAX_GROUPS]  albedo of group g = sum_c albedo_weights[3g + c] * linear texture[c]
-//   surface_albedo         vec4[MAX_GROUPS]  the atmosphere file's ground albedo per wavelength
-//   rgb_weights            vec4[3 MAX_GROUPS]  linear sRGB of group g = dot(rgb_weights[3g + c], L_g): the star's
-//                                 spectral irradiance, the CIE 1931 functions, 683 lm/W and colour-science's
-//                                 XYZ -> sRGB matrix folded in (planetviz/model/color.py; luminance in cd/m^2)
-//   output_mode            int    0: display colour (exposure, tone mapping, sRGB encoding); 1: the radiance at
-//                                 wavelengths 3 k .. 3 k + 2 (k = output_triple) per unit solar irradiance [1/sr]
-//                                 in R, G, B (alpha stays 1: VTK blends by alpha); 2: linear sRGB (CIE Y in
-//                                 cd/m^2), not tone-mapped
-//   output_triple          int    k of output_mode 1
-
-uniform vec3 camera_position;
-uniform float camera_altitude;
-uniform vec3 sun_direction;
-uniform int use_surface_texture;
-uniform vec4 albedo_weights[3 * MAX_GROUPS];
-uniform vec4 surface_albedo[MAX_GROUPS];
-uniform vec4 rgb_weights[3 * MAX_GROUPS];
-uniform int output_mode;
-uniform int output_triple;
-
-// The wavelength groups output_mode needs: first_group() .. last_group().
-int first_group() { return output_mode == 1 ? 3 * output_triple / 4 : 0; }
-int last_group() { return output_mode == 1 ? (3 * output_triple + 2) / 4 : group_count - 1; }
-
-// Weights of group g's four wavelengths in output channel k.
-vec4 channel_weights(int k, int g) {
-    if (output_mode != 1) return rgb_weights[3 * g + k];
-    return vec4(equal(ivec4(4 * g) + ivec4(0, 1, 2, 3), ivec4(3 * output_triple + k)));
-}
-
-// Group g's radiance l added to the output channels.
-vec3 to_channels(vec4 l, int g) {
-    return vec3(dot(channel_weights(0, g), l), dot(channel_weights(1, g), l), dot(channel_weights(2, g), l));
-}
+// Uniforms: those of view.glsl (before it).
 
 // The view ray along v where it enters the atmosphere: (a, mu, mu_s, nu) with a = r - R_b (common.glsl), the start
 // point x and whether the ray meets the atmosphere at all.
@@ -85,20 +45,6 @@ bool ray_hits_ground(ViewRay ray) { return ray.visible && ray_intersects_ground(
 
 // Where the ray meets the ground (planet-centred, [m]); only meaningful where ray_hits_ground.
 vec3 ground_point(ViewRay ray) { return ray.x + distance_to_bottom_atmosphere_boundary(ray.a, ray.mu) * ray.v; }
-
-// Group g's albedo for each unit of component k (0, 1, 2) of the surface colour: the albedo is linear in the
-// texture's linear colour c (albedo_from_colour); with no texture, the file's albedo is component 0 of the colour
-// (1, 0, 0) (surface_colour_or_unit).
-vec4 albedo_column(int k, int g) {
-    if (use_surface_texture == 1) return albedo_weights[3 * g + k];
-    return k == 0 ? surface_albedo[g] : vec4(0.0);
-}
-
-// The ground's albedo of group g for the colour c: the linear colour of the surface texture at the ground point,
-// or (1, 0, 0) with no texture.
-vec4 albedo_from_colour(vec3 c, int g) {
-    return albedo_column(0, g) * c.r + albedo_column(1, g) * c.g + albedo_column(2, g) * c.b;
-}
 
 // Where a ground ray ends: its length d and (mu, mu_s) at the ground point (altitude 0).
 struct GroundHit { float d; float mu; float mu_s; };

@@ -1,15 +1,26 @@
-// Quick view, per fragment: the vertex shader's value (quick_view_vertex.glsl), interpolated over the triangle, shown
-// through display.glsl (output_mode 0) or written as it is (1: spectral radiance, 2: linear sRGB).
+// Quick view, per fragment (after common.glsl, view.glsl, display.glsl and pixel.glsl): the vertex shader's
+// inscatter and ground light (quick_view_vertex.glsl) interpolated over the triangle, completed per pixel with the
+// surface texture's colour at the pixel's ground point and the sun's cosine there (the terminator), as
+// atmosphere_interpolated.glsl completes the per-vertex tables; no sun disc. Shown through display.glsl
+// (output_mode 0) or written as it is (1: spectral radiance, 2: linear sRGB).
 //
-// Uniforms: output_mode (int, as in quick_view_vertex.glsl); those of display.glsl.
+// Uniforms: those of the files before it.
 
-uniform int output_mode;
 in vec3 quick_view_value;
+in mat3 quick_ground_sky;
+in mat3 quick_ground_sun;
 
 vec4 quick_view_fragment() {
+    vec3 v = pixel_direction();
+    vec3 value = quick_view_value;
+    float mu = dot(camera_position, v) / radius_of(camera_altitude);
+    if (ray_intersects_ground(camera_altitude, mu)) {
+        vec3 n = normalize(camera_position + distance_to_bottom_atmosphere_boundary(camera_altitude, mu) * v);
+        value += (quick_ground_sky + max(dot(n, sun_direction), 0.0) * quick_ground_sun) * surface_colour_or_unit(n);
+    }
     // Spectral radiance is interpolated from non-negative vertices, but the rasteriser's barycentric weights can be
     // slightly negative on the slivers straddling a limb, which would extrapolate below 0 (linear sRGB may be
     // negative out of gamut and stays as it is; the display clamps).
-    vec3 value = output_mode == 1 ? max(quick_view_value, 0.0) : quick_view_value;
+    if (output_mode == 1) value = max(value, 0.0);
     return output_mode == 0 ? vec4(display_colour(value), 1.0) : vec4(value, 1.0);
 }

@@ -1,15 +1,15 @@
-// Quick view: Keller and Bohn's single scattering computed per vertex, with no 4D tables (after common.glsl).
+// Quick view: Keller and Bohn's single scattering computed per vertex, with no 4D tables (after common.glsl and
+// view.glsl).
 // The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction from the
 // camera to the vertex, L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i plus the sunlit ground, with
 // the midpoint rule on (i / n)^view_exponent and each optical depth on (j / m)^density_exponent. With
 // multiple_scattering = 1, the orders above the first from Hillaire's table Psi_ms(h, mu_s)
 // (planetviz/quick_view/multiple_scattering.py): sum_i Delta_i beta_s(h_i) Psi_ms exp(-tau(x, p_i)), and the sky's
-// irradiance on the ground E_sky(mu_s) added to the sun's.
+// irradiance on the ground E_sky(mu_s) added to the sun's. The ground's light is output per unit of the surface
+// colour and split by the sun's cosine, as atmosphere_vertex.glsl does, for quick_view_fragment.glsl to complete
+// per pixel with the surface texture and the terminator.
 //
-// Uniforms:
-//   camera_position        vec3   planet-centred camera position [m]
-//   camera_altitude        float  |camera_position| - bottom_radius [m], computed in double on the CPU
-//   sun_direction          vec3   unit vector toward the sun
+// Uniforms: those of view.glsl (the camera, the sun, the output channels, the albedo), and
 //   view_samples           int    n, points on the view path
 //   density_samples        int    m, points on each optical-depth path
 //   view_exponent          float  3 (the paper's power law) or 1 (equidistant)
@@ -24,12 +24,6 @@
 //   component_table        float[MAX_COMPONENTS * PROFILE_TABLE_SIZE]
 //   artistic_terms         int    1: Table 1's phases 1 + 0.5 nu^2 and HG without 1 / (4 pi) (coefficients are
 //                                 uploaded already scaled, planetviz/quick_view/single_scattering.py _coefficients)
-//   surface_albedo         vec4[MAX_GROUPS]  ground albedo per wavelength
-//   rgb_weights            vec4[3 MAX_GROUPS]  linear sRGB of group g = dot(rgb_weights[3g + c], L_g) (as in
-//                                 atmosphere_fragment.glsl)
-//   output_mode            int    0 and 2: linear sRGB; 1: the radiance at wavelengths 3k .. 3k + 2
-//                                 (k = output_triple) per unit solar irradiance [1/sr]
-//   output_triple          int    k of output_mode 1
 //   multiple_scattering    int    1: add the orders above the first and the sky's light on the ground; 0: single
 //                                 scattering alone (Keller and Bohn)
 //   multiple_scattering_texture  sampler2D  Psi_ms [1/sr per unit solar irradiance], rows: altitudes
@@ -37,14 +31,18 @@
 //                                 [-1, 1]; groups of four wavelengths stacked along y (textures.py pack_2d)
 //   ground_sky_texture     sampler2D  E_sky [per unit solar irradiance] over the same mu_s, one row per group
 //   multiple_scattering_size  vec2  (n_mu_s, n_h) of multiple_scattering_texture
-// Output: quick_view_value (vec3), interpolated over the triangles.
+// Outputs (output channels as output_mode says), interpolated over the triangles:
+//   quick_view_value   vec3  the inscatter (aerial perspective for ground rays)
+//   quick_ground_sky   mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
+//                            unit of component k of the surface colour (surface_colour_or_unit, pixel.glsl)
+//   quick_ground_sun   mat3  column k: the same lit by the sun, T(x, y) albedo T_sun(y) / pi, per unit of
+//                            max(n . s, 0), which the pixel multiplies in
+// For a ray that misses the ground the ground's terms are those of the grazing ray at the same azimuth, so a
+// triangle straddling the limb interpolates toward the ground's value at the horizon.
 
 #define MAX_COMPONENTS 6
 #define PROFILE_TABLE_SIZE 64
 
-uniform vec3 camera_position;
-uniform float camera_altitude;
-uniform vec3 sun_direction;
 uniform int view_samples;
 uniform int density_samples;
 uniform float view_exponent;
@@ -56,16 +54,14 @@ uniform vec4 component_extinction[MAX_COMPONENTS * MAX_GROUPS];
 uniform vec3 component_profile[MAX_COMPONENTS];
 uniform float component_table[MAX_COMPONENTS * PROFILE_TABLE_SIZE];
 uniform int artistic_terms;
-uniform vec4 surface_albedo[MAX_GROUPS];
-uniform vec4 rgb_weights[3 * MAX_GROUPS];
-uniform int output_mode;
-uniform int output_triple;
 uniform int multiple_scattering;
 uniform sampler2D multiple_scattering_texture;
 uniform sampler2D ground_sky_texture;
 uniform vec2 multiple_scattering_size;
 
 out vec3 quick_view_value;
+out mat3 quick_ground_sky;
+out mat3 quick_ground_sun;
 
 // Density of component k at altitude h (its profile, 1 at its reference altitude).
 float profile_density(int k, float h) {
@@ -133,25 +129,32 @@ bool in_shadow(vec3 p) {
     return ray_intersects_ground(r - bottom_radius, dot(p, sun_direction) / r);
 }
 
-// Single-scattered radiance of group g along v from the camera, per unit solar irradiance [1/sr].
-vec4 quick_view_radiance(vec3 v, int g) {
-    vec3 x = camera_position;
-    float a = camera_altitude;
+// Where the ray along v from the camera starts in the atmosphere: x and its altitude a (the camera, or where the
+// ray enters from space: closest approach as a vector, no cancellation); false if it misses the atmosphere.
+bool enter_atmosphere(vec3 v, out vec3 x, out float a) {
+    x = camera_position;
+    a = camera_altitude;
+    if (a <= top_radius - bottom_radius) return true;
+    float b = dot(x, v);
+    vec3 q = x - b * v;
+    float p2 = dot(q, q);
+    if (b >= 0.0 || p2 >= top_radius * top_radius) return false;
+    x = q - sqrt(top_radius * top_radius - p2) * v;
+    a = top_radius - bottom_radius;
+    return true;
+}
+
+// The inscattered radiance of group g along v from the camera, per unit solar irradiance [1/sr]: single
+// scattering and, with multiple_scattering = 1, the orders above it (the ground's light is quick_view_ground's).
+vec4 quick_view_inscatter(vec3 v, int g) {
+    vec3 x;
+    float a;
+    if (!enter_atmosphere(v, x, a)) return vec4(0.0);
     float mu = dot(x, v) / radius_of(a);
-    // Enter the atmosphere first when the camera is in space (closest approach as a vector: no cancellation).
-    if (a > top_radius - bottom_radius) {
-        float b = dot(x, v);
-        vec3 q = x - b * v;
-        float p2 = dot(q, q);
-        if (b >= 0.0 || p2 >= top_radius * top_radius) return vec4(0.0);
-        x = q - sqrt(top_radius * top_radius - p2) * v;
-        a = top_radius - bottom_radius;
-        mu = dot(x, v) / top_radius;
-    }
     bool ground = ray_intersects_ground(a, mu);
     float path = ground ? distance_to_bottom_atmosphere_boundary(a, mu) : distance_to_top_exit(x, v);
     float nu = dot(v, sun_direction);
-    float p_r, p_m_norm;
+    float p_r;
     vec4 p_m;
     if (artistic_terms == 1) {
         p_r = 1.0 + 0.5 * nu * nu;
@@ -179,37 +182,49 @@ vec4 quick_view_radiance(vec3 v, int g) {
         vec4 tau = tau_view + path_optical_depth(p, sun_direction, distance_to_top_exit(p, sun_direction), g);
         l += (b - a) * path * j * exp(-tau);
     }
-    if (ground) {
-        vec3 y = x + path * v;
-        vec3 n = normalize(y);
-        float mu_s = dot(n, sun_direction);
-        float cos_s = max(mu_s, 0.0);
-        vec4 irradiance = vec4(0.0);
-        if (cos_s > 0.0) {
-            irradiance = cos_s * exp(-path_optical_depth(y, sun_direction, distance_to_top_exit(y, sun_direction), g));
-        }
-        if (multiple_scattering == 1) irradiance += ground_sky_irradiance(mu_s, g);
-        if (any(greaterThan(irradiance, vec4(0.0)))) {
-            l += exp(-path_optical_depth(x, v, path, g)) * surface_albedo[g] / PI * irradiance;
-        }
-    }
     return l;
+}
+
+// The ground's light of group g toward the camera along v per unit albedo: lit by the sky, T(x, y) E_sky / pi,
+// and by the sun, T(x, y) T_sun(y) / pi per unit max(n . s, 0). A ray that misses the ground takes the grazing
+// ray in the plane of v and the nadir.
+void quick_view_ground(vec3 v, int g, out vec4 sky, out vec4 sun) {
+    sky = vec4(0.0);
+    sun = vec4(0.0);
+    vec3 x;
+    float a;
+    vec3 u = v;
+    float r = radius_of(camera_altitude);
+    if (!ray_intersects_ground(camera_altitude, dot(camera_position, v) / r)) {
+        vec3 down = -camera_position / r;
+        vec3 side = v - dot(v, down) * down;
+        float s = length(side);
+        if (s == 0.0) return;
+        u = down * (rho_of(camera_altitude) / r) + side * (bottom_radius / (r * s));
+    }
+    if (!enter_atmosphere(u, x, a)) return;
+    float d = distance_to_bottom_atmosphere_boundary(a, dot(x, u) / radius_of(a));
+    vec3 y = x + d * u;
+    float mu_s = dot(normalize(y), sun_direction);
+    vec4 t_view = exp(-path_optical_depth(x, u, d, g)) / PI;
+    if (mu_s > 0.0) {
+        sun = t_view * exp(-path_optical_depth(y, sun_direction, distance_to_top_exit(y, sun_direction), g));
+    }
+    if (multiple_scattering == 1) sky = t_view * ground_sky_irradiance(mu_s, g);
 }
 
 void quick_view_vertex(vec3 vertex_position) {
     vec3 v = normalize(vertex_position - camera_position);
-    if (output_mode == 1) {
-        int first = 3 * output_triple;
+    quick_view_value = vec3(0.0);
+    quick_ground_sky = mat3(0.0);
+    quick_ground_sun = mat3(0.0);
+    for (int g = first_group(); g <= last_group(); ++g) {
+        quick_view_value += to_channels(quick_view_inscatter(v, g), g);
+        vec4 sky, sun;
+        quick_view_ground(v, g, sky, sun);
         for (int k = 0; k < 3; ++k) {
-            int i = first + k;
-            quick_view_value[k] = quick_view_radiance(v, i / 4)[i % 4];
+            quick_ground_sky[k] += to_channels(albedo_column(k, g) * sky, g);
+            quick_ground_sun[k] += to_channels(albedo_column(k, g) * sun, g);
         }
-        return;
     }
-    vec3 rgb = vec3(0.0);
-    for (int g = 0; g < group_count; ++g) {
-        vec4 l = quick_view_radiance(v, g);
-        rgb += vec3(dot(rgb_weights[3 * g], l), dot(rgb_weights[3 * g + 1], l), dot(rgb_weights[3 * g + 2], l));
-    }
-    quick_view_value = rgb;
 }

@@ -34,8 +34,9 @@ from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camer
 #: The GLSL both table-based actors share, in order (each file declares what the later ones use): for the 4D
 #: tables, and for the compact tables (planetviz/tables/compact.py), read without the quadratures along rays.
 TABLE_SHADERS = ("common.glsl", "table_lookup.glsl", "near_ground.glsl", "horizon.glsl", "phased_scattering.glsl",
-                 "atmosphere_ray.glsl")
-COMPACT_TABLE_SHADERS = ("common.glsl", "table_lookup.glsl", "compact_scattering.glsl", "atmosphere_ray.glsl")
+                 "view.glsl", "atmosphere_ray.glsl")
+COMPACT_TABLE_SHADERS = ("common.glsl", "table_lookup.glsl", "compact_scattering.glsl", "view.glsl",
+                         "atmosphere_ray.glsl")
 
 
 #: Altitudes at which the shaders get the density profiles (density_texture, read by density_at in GLSL).

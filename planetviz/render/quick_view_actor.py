@@ -4,8 +4,10 @@ twin of planetviz/quick_view/single_scattering.py), with no 4D tables, so every 
 the next frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the
 ground from Hillaire's 2D table (planetviz/quick_view/multiple_scattering.py), computed in NumPy in a background
 thread when the actor is made: the first frame shows single scattering, the frames after the table is ready
-(:meth:`QuickViewActor.collect`, about 0.1 s later) all orders. Colours are interpolated over the triangles and tone-mapped per fragment; the surface is the atmosphere
-file's uniform albedo.
+(:meth:`QuickViewActor.collect`, about 0.1 s later) all orders. The inscatter and the ground's light per unit of
+the surface colour are interpolated over the triangles and completed per fragment (shaders/quick_view_fragment.glsl)
+with the surface texture (or the file's uniform albedo) and the sun's cosine at the pixel's ground point, as the
+per-vertex table renderer does; no sun disc.
 """
 from __future__ import annotations
 
@@ -18,11 +20,15 @@ from ..quick_view.multiple_scattering import MS_SIZE, ORDERS, quick_view_tables
 from ..quick_view.single_scattering import SAMPLING, coefficients, check_settings
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
+from ..model.color import albedo_matrix
+from .surface import surface_cube
 from .textures import MAX_GROUPS, group_count, pack_2d, pad_groups, upload
-from .uniforms import OUTPUT_MODES, TONE_MAPPINGS, atmosphere_uniforms, camera_altitude, groups_array
+from .uniforms import atmosphere_uniforms, draw_uniforms, groups_array
 
 MAX_COMPONENTS = 6
 PROFILE_TABLE_SIZE = 64
+#: The textures of the orders above the first, replaced when their table is ready.
+MULTIPLE_SCATTERING_TEXTURES = ("multiple_scattering_texture", "ground_sky_texture")
 
 
 class QuickViewActor(DirectionMeshActor):
@@ -30,25 +36,27 @@ class QuickViewActor(DirectionMeshActor):
 
     ``samples`` / ``density_samples``: points n on each view path and m on each optical-depth path;
     ``sampling``: ``"power"`` or ``"equidistant"``; ``terms``: ``"physical"`` or ``"artistic"``; ``orders``:
-    ``"all"`` or ``"single"`` (:data:`ORDERS`; the artistic terms are single scattering only)."""
+    ``"all"`` or ``"single"`` (:data:`ORDERS`; the artistic terms are single scattering only); ``surface``: an
+    (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the file's uniform albedo."""
 
     def __init__(self, atmosphere, renderer, samples=8, density_samples=None, sampling="power", terms="physical",
-                 settings=None, orders="all"):
+                 settings=None, orders="all", surface=None):
         self.samples, self.density_samples = check_settings(samples, density_samples, sampling, terms)
         if orders not in ORDERS:
             raise ValueError(f"quick view orders: one of {', '.join(ORDERS)}, got {orders!r}")
-        self.atmosphere = atmosphere
+        self.atmosphere, self.surface = atmosphere, surface
         self.sampling, self.terms = sampling, terms
         self.orders = orders if terms == "physical" else "single"
         self.multiple = self.ground_sky = None          # Psi_ms and E_sky once shown
-        self._textures = self._job = None
+        self._textures, self._job, self._cube_image = {}, None, None
         self._tables = []
         if self.orders == "all":
             self._job = threading.Thread(target=lambda: self._tables.append(quick_view_tables(atmosphere)),
                                          daemon=True)
             self._job.start()
-        super().__init__(atmosphere, renderer, shader_code("common.glsl", "quick_view_vertex.glsl"),
-                         "quick_view_vertex", shader_code("display.glsl", "quick_view_fragment.glsl"),
+        super().__init__(atmosphere, renderer, shader_code("common.glsl", "view.glsl", "quick_view_vertex.glsl"),
+                         "quick_view_vertex", shader_code("common.glsl", "view.glsl", "display.glsl", "pixel.glsl",
+                                                          "quick_view_fragment.glsl"),
                          "quick_view_fragment", settings=settings)
         self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.deactivate()))
 
@@ -74,6 +82,8 @@ class QuickViewActor(DirectionMeshActor):
                 table[k] = profile.density(np.linspace(0.0, atm.thickness_m, PROFILE_TABLE_SIZE))
         per_group = lambda values: groups_array(pad_groups(values))
         e_view, e_depth = SAMPLING[self.sampling]
+        albedo_weights = np.zeros((MAX_GROUPS, 3, 4), np.float32)
+        albedo_weights[:G] = np.moveaxis(pad_groups(albedo_matrix(atm.wavelengths_nm)), 0, 1)   # (3, W) -> (G, 3, 4)
         return {
             **atmosphere_uniforms(atm),
             "view_samples": ("i", self.samples), "density_samples": ("i", self.density_samples),
@@ -84,7 +94,17 @@ class QuickViewActor(DirectionMeshActor):
             "component_profile": ("3fv", prof), "component_table": ("1fv", table.ravel()),
             "artistic_terms": ("i", int(self.terms == "artistic")),
             "multiple_scattering_size": ("2f", (MS_SIZE[1], MS_SIZE[0])),
+            "albedo_weights": ("4fv", albedo_weights.reshape(-1, 4)),
+            "use_surface_texture": ("i", int(self.surface is not None)),
+            "surface_face_size": ("f", self._cube().shape[1] - 2),
         }
+
+    def _cube(self):
+        """The surface map on the faces of a cube (planetviz/render/surface.py), or a black 1-texel cube; made once."""
+        if self._cube_image is None:
+            self._cube_image = (np.zeros((6, 3, 3, 3), np.uint8) if self.surface is None
+                                else surface_cube(self.surface))
+        return self._cube_image
 
     @property
     def pending(self):
@@ -101,42 +121,41 @@ class QuickViewActor(DirectionMeshActor):
         if not self._tables:                          # the computation failed: single scattering stays
             return False
         self.multiple, self.ground_sky = self._tables[0]
-        self._release_textures()
+        self._release_textures(MULTIPLE_SCATTERING_TEXTURES)        # bind uploads the tables in their place
         self._frame_key = None                        # new frame uniforms (multiple_scattering) at the next frame
         return True
 
     def bind(self, program):
-        """Upload Psi_ms and E_sky on first use (zeros for single scattering alone), activate them and point the
-        samplers at them."""
-        if self._textures is None:
-            window = self.renderer.GetRenderWindow()
+        """Upload the textures not yet on the GPU (Psi_ms and E_sky: zeros until their table is ready, or for single
+        scattering alone; the surface), activate them and point the samplers at them."""
+        window = self.renderer.GetRenderWindow()
+        if "surface_faces" not in self._textures:
+            self._textures["surface_faces"] = upload(window, self._cube(), srgb=True, layers=True)
+        if "multiple_scattering_texture" not in self._textures:
             shape = (*MS_SIZE, self.atmosphere.n_wavelengths)
             psi = self.multiple if self.multiple is not None else np.zeros(shape, np.float32)
             sky = self.ground_sky if self.ground_sky is not None else np.zeros(shape[1:], np.float32)
-            self._textures = {"multiple_scattering_texture": upload(window, pack_2d(psi.astype(np.float32))),
-                              "ground_sky_texture": upload(window, pack_2d(sky[None].astype(np.float32)))}
+            self._textures["multiple_scattering_texture"] = upload(window, pack_2d(psi.astype(np.float32)))
+            self._textures["ground_sky_texture"] = upload(window, pack_2d(sky[None].astype(np.float32)))
         for name, tex in self._textures.items():
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())
 
     def deactivate(self):
-        for tex in (self._textures or {}).values():
+        for tex in self._textures.values():
             tex.Deactivate()
 
     def release(self):
         """Stop following the renderer and free the GPU textures."""
         super().release()
-        self._release_textures()
+        self._release_textures(list(self._textures))
 
-    def _release_textures(self):
-        for tex in (self._textures or {}).values():
-            tex.ReleaseGraphicsResources(self.renderer.GetRenderWindow())
-        self._textures = None
+    def _release_textures(self, names):
+        for name in names:
+            tex = self._textures.pop(name, None)
+            if tex is not None:
+                tex.ReleaseGraphicsResources(self.renderer.GetRenderWindow())
 
     def frame_uniforms(self, view):
-        s = self.settings
-        return {"camera_position": view["camera_position"], **camera_altitude(view, self.atmosphere.bottom_radius_m),
-                "sun_direction": ("3f", self.sun_direction / np.linalg.norm(self.sun_direction)),
-                "output_mode": ("i", OUTPUT_MODES[s.output_mode]), "output_triple": ("i", s.output_triple),
-                "exposure": ("f", s.exposure), "tone_mapping": ("i", TONE_MAPPINGS[s.tone_mapping]),
+        return {**draw_uniforms(view, np.asarray(self.sun_direction), self.settings, self.atmosphere),
                 "multiple_scattering": ("i", int(self.multiple is not None))}

@@ -265,7 +265,8 @@ class PlanetView:
 
     def _show_quick(self):
         self.quick = QuickViewActor(self._atmosphere, self.renderer, samples=self.quick_samples,
-                                    terms=self.quick_terms, settings=self.settings, orders=self.quick_orders)
+                                    terms=self.quick_terms, settings=self.settings, orders=self.quick_orders,
+                                    surface=self._ground_surface)
         self.quick.sun_direction = self._sun
         self.add_actor(self.quick.actor, reset_camera=False, name="quick-view")
 
