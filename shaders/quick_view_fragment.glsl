@@ -4,7 +4,8 @@
 // atmosphere_interpolated.glsl completes the per-vertex tables; no sun disc. Shown through display.glsl
 // (output_mode 0) or written as it is (1: spectral radiance, 2: linear sRGB).
 //
-// Uniforms: those of the files before it.
+// Uniforms: those of the files before it. The constant sky_part (planetviz/render/direction_mesh.py) is true in the
+// part of the mesh whose rays all miss the ground.
 
 in vec3 quick_view_value;
 in mat3 quick_ground_sky;
@@ -14,7 +15,7 @@ vec4 quick_view_fragment() {
     vec3 v = pixel_direction();
     vec3 value = quick_view_value;
     float mu = dot(camera_position, v) / radius_of(camera_altitude);
-    if (ray_intersects_ground(camera_altitude, mu)) {
+    if (!sky_part && ray_intersects_ground(camera_altitude, mu)) {
         vec3 n = normalize(camera_position + distance_to_bottom_atmosphere_boundary(camera_altitude, mu) * v);
         value += (quick_ground_sky + max(dot(n, sun_direction), 0.0) * quick_ground_sun) * surface_colour_or_unit(n);
     }

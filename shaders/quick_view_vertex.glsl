@@ -38,7 +38,9 @@
 //   quick_ground_sun   mat3  column k: the same lit by the sun, T(x, y) albedo T_sun(y) / pi, per unit of
 //                            max(n . s, 0), which the pixel multiplies in
 // For a ray that misses the ground the ground's terms are those of the grazing ray at the same azimuth, so a
-// triangle straddling the limb interpolates toward the ground's value at the horizon.
+// triangle straddling the limb interpolates toward the ground's value at the horizon. The constant sky_part
+// (planetviz/render/direction_mesh.py) is true in the part of the mesh whose rays all miss the ground, where the
+// ground's terms are left out.
 
 #define MAX_COMPONENTS 6
 #define PROFILE_TABLE_SIZE 64
@@ -220,6 +222,7 @@ void quick_view_vertex(vec3 vertex_position) {
     quick_ground_sun = mat3(0.0);
     for (int g = first_group(); g <= last_group(); ++g) {
         quick_view_value += to_channels(quick_view_inscatter(v, g), g);
+        if (sky_part) continue;
         vec4 sky, sun;
         quick_view_ground(v, g, sky, sun);
         for (int k = 0; k < 3; ++k) {

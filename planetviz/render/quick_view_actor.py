@@ -57,7 +57,7 @@ class QuickViewActor(DirectionMeshActor):
         super().__init__(atmosphere, renderer, shader_code("common.glsl", "view.glsl", "quick_view_vertex.glsl"),
                          "quick_view_vertex", shader_code("common.glsl", "view.glsl", "display.glsl", "pixel.glsl",
                                                           "quick_view_fragment.glsl"),
-                         "quick_view_fragment", settings=settings)
+                         "quick_view_fragment", split_at_limb=True, settings=settings)
         self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.deactivate()))
 
     def static_uniforms(self):
