@@ -260,7 +260,7 @@ class PlanetView:
         self.planet = SHADINGS[self._shading](self._atmosphere, drawn, self.renderer,
                                               surface=self._ground_surface, settings=self.settings)
         self.planet.sun_direction = self._sun
-        self.add_actor(self.planet.actor, reset_camera=False, name="planet")
+        self.add_actor(self.planet.actor, reset_camera=False, name="planet", render=False)
         self.renderer.ResetCameraClippingRange()     # the previous actor's bounds may have set it
 
     def _show_quick(self):
@@ -268,15 +268,16 @@ class PlanetView:
                                     terms=self.quick_terms, settings=self.settings, orders=self.quick_orders,
                                     surface=self._ground_surface)
         self.quick.sun_direction = self._sun
-        self.add_actor(self.quick.actor, reset_camera=False, name="quick-view")
+        self.add_actor(self.quick.actor, reset_camera=False, name="quick-view", render=False)
 
     def _drop_actors(self):
+        """Take the actors out (no frame: the caller's next render draws what replaces them)."""
         if self.planet is not None:
-            self.remove_actor(self.planet.actor)
+            self.remove_actor(self.planet.actor, render=False)
             self.planet.release()
             self.planet = None
         if self.quick is not None:
-            self.remove_actor(self.quick.actor)
+            self.remove_actor(self.quick.actor, render=False)
             self.quick.release()
             self.quick = None
 
