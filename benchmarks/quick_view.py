@@ -27,6 +27,7 @@ from tables_pareto import errors, query_set, reference  # noqa: E402
 from planetviz import load_atmosphere  # noqa: E402
 from planetviz.quick_view.single_scattering import quick_view_radiance  # noqa: E402
 from planetviz.reference import QUALITY_SAMPLES, single_scattering  # noqa: E402
+from planetviz.validation.pictures import VIEWS, floored_difference, view_luminance  # noqa: E402
 
 SAMPLES = (3, 4, 6, 8, 12, 16, 24, 32)
 
@@ -156,25 +157,11 @@ def random_atmospheres(split, count):
               + " | ".join(per_class) + " |", flush=True)
 
 
-#: Views of the pictures' comparison: (camera call, keywords, sun keywords).
-VIEWS = {
-    "orbit, day": ("view_from_space", dict(latitude=20, longitude=10), dict(elevation=30, azimuth=100)),
-    "orbit, terminator": ("view_from_space", dict(latitude=0, longitude=0), dict(elevation=0, azimuth=90)),
-    "limb from 400 km": ("view_from_ground", dict(latitude=20, altitude=4e5, heading=90, pitch=-17, fov=40),
-                         dict(elevation=20, azimuth=90)),
-    "aircraft, 10 km": ("view_from_ground", dict(latitude=45, altitude=1e4, heading=90, pitch=0),
-                        dict(elevation=20, azimuth=120)),
-    "ground, noon": ("view_from_ground", dict(latitude=45, heading=180, pitch=10), dict(elevation=60, azimuth=180)),
-    "ground, sunset": ("view_from_ground", dict(latitude=45, heading=270, pitch=2), dict(elevation=2, azimuth=270)),
-    "ground, twilight": ("view_from_ground", dict(latitude=45, heading=270, pitch=2), dict(elevation=-4, azimuth=270)),
-}
-
-
 def views(presets, size):
     """The quick view's pictures (single scattering; all orders) against the per-pixel 4D tables', the same
     frames in CIE Y (``render_hdr``), the relative difference floored at 1% of the frame's 99th percentile (a
-    pixel darker than that counts against that level), the sun's disc left out; the atmosphere's uniform albedo
-    (the quick view has no surface texture)."""
+    pixel darker than that counts against that level; planetviz.validation.pictures), the sun's disc left out;
+    the atmosphere's uniform albedo on both sides, so that the atmospheres are compared, not the texture."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     from planetviz.render import Scene
     w, h = (int(v) for v in size.split("x"))
@@ -187,17 +174,11 @@ def views(presets, size):
                               quick_orders=kind if kind != "tables" else "all")
                   for kind in ("tables", "single", "all")}
         try:
-            for view, (call, camera, sun) in VIEWS.items():
-                y = {}
-                for kind, scene in scenes.items():
-                    scene.settings.show_sun = False
-                    getattr(scene, call)(**camera)
-                    scene.set_sun(**sun, latitude=camera["latitude"], longitude=camera.get("longitude", 0.0))
-                    y[kind] = scene.render_hdr().linear_srgb[..., 1]
-                floor = 0.01 * np.percentile(y["tables"], 99)
+            for view, spec in VIEWS.items():
+                y = {kind: view_luminance(scene, spec) for kind, scene in scenes.items()}
                 cells = []
                 for kind in ("single", "all"):
-                    rel = np.abs(y[kind] - y["tables"]) / np.maximum(y["tables"], floor)
+                    rel = floored_difference(y[kind], y["tables"])
                     cells.append(f"{np.sqrt(np.mean(rel ** 2)):.4f} | {np.percentile(rel, 99):.4f}")
                 print(f"| {name} | {view} | {cells[0]} | {cells[1]} |", flush=True)
         finally:

@@ -16,6 +16,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
 from planetviz.model.geometry import distance_to_ground  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
+from planetviz.validation.pictures import view_luminance  # noqa: E402
 
 #: name: (camera call, its keywords, sun keywords)
 VIEWS = {
@@ -34,13 +35,8 @@ def frames(size, quality):
     scenes = {s: Scene("earth", quality=quality, surface="texture", off_screen=True, window_size=size, shading=s)
               for s in ("pixel", "vertex")}
     try:
-        for name, (call, camera, sun) in VIEWS.items():
-            images = {}
-            for shading, scene in scenes.items():
-                scene.settings.show_sun = False
-                getattr(scene, call)(**camera)
-                scene.set_sun(**sun, latitude=camera["latitude"], longitude=camera.get("longitude", 0.0))
-                images[shading] = scene.render_hdr().linear_srgb[..., 1]
+        for name, view in VIEWS.items():
+            images = {shading: view_luminance(scene, view) for shading, scene in scenes.items()}
             scene = scenes["pixel"]
             rows, cols = np.indices(images["pixel"].shape)
             dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)

@@ -11,14 +11,17 @@ extinction at least its scattering), is refused with the field named and its ran
 from __future__ import annotations
 
 import copy
+import json
 import math
+from pathlib import Path
 from typing import Callable, NamedTuple
 
 import numpy as np
 
 from ..model.limits import LIMITS, check_number
 from ..model.optics.mie import TURBIDITY_JUNGE, TURBIDITY_K, mie_scattering_turbidity, turbidity_from_scattering
-from ..model.presets import load_dict
+from ..model.atmosphere import parse_json
+from ..model.presets import PRESETS, load_atmosphere, load_dict
 
 
 class Parameter(NamedTuple):
@@ -46,19 +49,15 @@ def _scaled(values, factor):
     return [float(v) * factor for v in values]
 
 
-def _factor_range(*paths):
-    """allowed(b) of a scale factor on the coefficient lists at ``paths`` of ``b``: 0 to the factor that takes
-    the largest of them to the coefficients' upper limit."""
+def _factor_range(get):
+    """allowed(b) of a scale factor on the coefficients ``get(b)``: 0 to the factor that takes the largest of them
+    to the coefficients' upper limit (0 to 3 where there are none: the factor changes nothing)."""
     def allowed(b):
-        largest = max(max(np.max(get(b)) for get in paths), 1e-300)
-        return 0.0, LIMITS["coefficient_m"][1] / largest
+        values = get(b)
+        if not values:
+            return 0.0, 3.0
+        return 0.0, LIMITS["coefficient_m"][1] / max(max(values), 1e-300)
     return allowed
-
-
-def _absorbers_factor_range(b):
-    """The "x" range of the absorbing layers' extinction (0 to 3 without layers: the factor has no effect)."""
-    largest = max((max(layer["extinction_m"]) for layer in b["absorption"]), default=0.0)
-    return (0.0, LIMITS["coefficient_m"][1] / largest) if largest > 0 else (0.0, 3.0)
 
 
 def _scaled_limit(limit, unit):
@@ -120,7 +119,7 @@ STANDARD = [
     Parameter("ozone x (absorbers' scale, 0 = off)", (0.0, 3.0), lambda d, b: 1.0 if b["absorption"] else 0.0,
               lambda d, b, v: d.update(absorption=[{**layer, "extinction_m": _scaled(layer["extinction_m"], v)}
                                                    for layer in b["absorption"]]),
-              lambda b: _absorbers_factor_range(b)),
+              _factor_range(lambda b: [x for layer in b["absorption"] for x in layer["extinction_m"]])),
     Parameter("ground albedo", LIMITS["ground_albedo"], lambda d, b: d["ground_albedo"][0],
               lambda d, b, v: d.update(ground_albedo=[v] * len(d["wavelengths_nm"]))),
 ]
@@ -188,3 +187,16 @@ def apply_parameter(row, source, base, value):
     d = copy.deepcopy(source)
     row.put(d, base, value)
     return load_dict(d), d
+
+
+def load_with_form(key):
+    """(atmosphere, its file form) of a preset name, an atmosphere file or an Atmosphere: the file form is the
+    preset's or the file's own JSON (advanced fields where it has them; what the advanced rows read and write),
+    else the atmosphere's standard form. Raises AtmosphereError, ValueError or OSError for an invalid one."""
+    if isinstance(key, str) and key in PRESETS:
+        return load_atmosphere(key), json.loads(PRESETS[key].read_text())
+    if isinstance(key, (str, Path)) and Path(key).is_file():
+        source = parse_json(Path(key).read_text(), source=str(key))
+        return load_dict(source), source
+    atm = load_atmosphere(key)
+    return atm, atm.to_dict()

@@ -31,15 +31,14 @@ from matplotlib.figure import Figure
 from pyvistaqt import QtInteractor
 from qtpy import QtCore, QtGui, QtWidgets
 
-from ..model.atmosphere import parse_json
 from ..model.limits import AtmosphereError
-from ..model.presets import PRESETS, load_atmosphere, load_dict
+from ..model.presets import PRESETS
 from ..model.sun import parse_site, parse_time, sun_position
 from ..render.scene import SHADINGS, PlanetView
 from ..render.uniforms import TONE_MAPPINGS
 from ..tables.compact import TABLE_KINDS
 from ..tables.precompute import QUALITY
-from .parameters import GEOMETRY, STANDARD, advanced_parameters, apply_parameter, current_value
+from .parameters import GEOMETRY, STANDARD, advanced_parameters, apply_parameter, current_value, load_with_form
 from .probe import probe_pixel, sun_vertical
 from .render_options import CAMERA_PRESETS, SITE, camera_preset
 
@@ -125,8 +124,8 @@ class PlanetWindow(QtWidgets.QMainWindow):
         self.mode = mode
         self.site = tuple(site)
         self._file = atmosphere_file
-        atm = load_atmosphere(atmosphere)
-        self._remember(atm, self._file_form(atmosphere, atm))
+        atm, source = load_with_form(atmosphere)
+        self._remember(atm, source)
         central = QtWidgets.QSplitter(QtCore.Qt.Horizontal)
         self.scene = QtScene(atm, parent=central, quality=quality, method=method, shading=shading,
                              exposure=exposure, tone_mapping=tone_mapping, tables=tables)
@@ -313,15 +312,6 @@ class PlanetWindow(QtWidgets.QMainWindow):
         menu.addAction("Quit", self.close)
 
     # ------------------------------------------------------------------------------------- atmosphere
-    @staticmethod
-    def _file_form(key, atm):
-        """The file's own form of a preset or file (advanced fields when it has them), else the atmosphere's."""
-        if isinstance(key, str) and key in PRESETS:
-            return json.loads(PRESETS[key].read_text())
-        if isinstance(key, (str, Path)) and Path(key).is_file():
-            return parse_json(Path(key).read_text(), source=str(key))
-        return atm.to_dict()
-
     def _remember(self, atm, source):
         self._atmosphere = atm
         self._base, self._source, self._source_base = atm.to_dict(), source, json.loads(json.dumps(source))
@@ -338,17 +328,18 @@ class PlanetWindow(QtWidgets.QMainWindow):
     def load_preset(self, name):
         """Show the preset ``name``."""
         try:
-            atm = load_atmosphere(name)
+            atm, source = load_with_form(name)
         except (AtmosphereError, ValueError, OSError) as exc:
             return self.refuse(f"{name}: {exc}")
-        self._show_atmosphere(atm, self._file_form(name, atm))
+        self._show_atmosphere(atm, source)
         return True
 
     def open_atmosphere(self, path):
         """Show the atmosphere file at ``path``; an invalid file is refused with a message, the picture stays."""
         try:
-            source = parse_json(Path(path).read_text(), source=str(path))
-            atm = load_dict(source)
+            if not Path(path).is_file():
+                raise OSError(f"no such file: {path}")
+            atm, source = load_with_form(Path(path))
         except (AtmosphereError, ValueError, OSError) as exc:
             return self.refuse(f"{path}: {exc}")
         self._file = str(path)

@@ -22,9 +22,8 @@ import time
 import numpy as np
 
 from ..model.limits import AtmosphereError
-from ..model.presets import PRESETS, load_atmosphere, load_dict
 from ..render.scene import flight_path
-from .parameters import STANDARD, advanced_parameters, apply_parameter, current_value
+from .parameters import STANDARD, advanced_parameters, apply_parameter, current_value, load_with_form
 from .render_options import SITE, camera_preset
 
 PRESET_KEYS = {"F1": "earth", "F2": "mars", "F3": "exo-co2-thick", "F4": "exo-mdwarf", "F5": "earth-advanced"}
@@ -125,8 +124,7 @@ class PlanetApp:
 
     def load_preset(self, name):
         try:
-            atm = load_atmosphere(name)
-            source = json.loads(PRESETS[name].read_text()) if name in PRESETS else atm.to_dict()
+            atm, source = load_with_form(name)
         except (AtmosphereError, ValueError, OSError) as exc:
             self.show_message(f"{name}: {exc}")
             self.refresh()
@@ -206,11 +204,7 @@ class PlanetApp:
             self.refresh()
             return False
         try:
-            with open(self._file) as f:
-                text = f.read()
-            from ..model.atmosphere import parse_json
-            source = parse_json(text, source=str(self._file))
-            atm = load_dict(source)
+            atm, source = load_with_form(self._file)
         except (AtmosphereError, ValueError, OSError) as exc:
             self.show_message(f"{self._file}: {exc}")
             self.refresh()

@@ -33,6 +33,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.atmosphere import Mie
+from ..tables.parameterization import (distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary,
+                                       ray_intersects_ground)
 from .single_scattering import coefficients, sample_fractions
 
 #: What the quick view adds up: every order ("all": single scattering and this table for the orders above, with
@@ -97,12 +99,9 @@ def fibonacci_sphere(n):
 
 def ray_length(atm, r, mu):
     """(distance along (r, mu) to the ground or the top, whether it is the ground) [m]."""
-    R, top = atm.bottom_radius_m, atm.top_radius_m
-    ground_disc = r * r * (mu * mu - 1.0) + R * R
-    ground = (mu < 0.0) & (ground_disc >= 0.0)
-    to_ground = -r * mu - np.sqrt(np.maximum(ground_disc, 0.0))
-    to_top = -r * mu + np.sqrt(np.maximum(r * r * (mu * mu - 1.0) + top * top, 0.0))
-    return np.where(ground, to_ground, to_top), ground
+    ground = ray_intersects_ground(r, mu, atm.bottom_radius_m)
+    return np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, atm.bottom_radius_m),
+                    distance_to_top_atmosphere_boundary(r, mu, atm.top_radius_m)), ground
 
 
 def _extinction(extinction, h):
@@ -133,8 +132,8 @@ def transmittance_table(atm, size=TRANSMITTANCE_SIZE, steps=TRANSMITTANCE_STEPS)
     n_h, n_mu = size
     r = atm.bottom_radius_m + altitude_grid(atm, n_h)[:, None]
     mu = cosine_grid(n_mu)[None, :]
-    length, ground = ray_length(atm, r, mu)
-    to_top = -r * mu + np.sqrt(np.maximum(r * r * (mu * mu - 1.0) + atm.top_radius_m ** 2, 0.0))
+    ground = ray_intersects_ground(r, mu, atm.bottom_radius_m)
+    to_top = distance_to_top_atmosphere_boundary(r, mu, atm.top_radius_m)
     mid, width = sample_fractions(steps, 2.0)
     t = to_top[..., None] * mid
     h = np.sqrt(t * t + 2.0 * r[..., None] * mu[..., None] * t + r[..., None] ** 2) - atm.bottom_radius_m
