@@ -218,8 +218,9 @@ class PlanetWindow(QtWidgets.QMainWindow):
         while self._parameters.rowCount():
             self._parameters.removeRow(0)
         self._boxes = {}
+        form = self._form()
         for row in self._rows():
-            value = current_value(row, self._form(), self._base)
+            value = current_value(row, form, self._base)
             if value is None:
                 continue                                # not in this atmosphere's form
             lo, hi = row.allowed_range(self._base)
@@ -604,6 +605,9 @@ class PlanetWindow(QtWidgets.QMainWindow):
     def refresh(self):
         """Render and update the status bar."""
         self.scene.render()
+        self._show_status()
+
+    def _show_status(self):
         self._status.setText(self.status_text())
         self._shading.blockSignals(True)
         self._shading.setCurrentText(self.scene.shading)           # "auto" settles after the first frame
@@ -614,10 +618,12 @@ class PlanetWindow(QtWidgets.QMainWindow):
             self._progress.setValue(int(100 * job[1]))
 
     def _tick(self):
-        s = self.scene
-        if s.precompute_progress is not None or s.quick_pending or (s.renderer_in_use == "quick"
-                                                                   and self._method.currentText() == "tables"):
+        """Timer: render when finished background work changes the picture, else only the status bar (a frame
+        on a software OpenGL takes the CPU the precompute needs)."""
+        if self.scene.collect():
             self.refresh()
+        else:
+            self._show_status()
 
     def closeEvent(self, event):
         self._poll.stop()

@@ -221,9 +221,7 @@ class PlanetView:
     def render(self):
         """Render, first switching to the tables if a background precompute has finished, and the quick view to
         all orders if their table is ready (and settling ``shading="auto"`` once the OpenGL renderer is known)."""
-        self._collect_tables()
-        if self.quick is not None:
-            self.quick.collect()
+        self.collect()
         if self._auto_shading and self.gl_renderer is not None:
             self._auto_shading = False
             self.set_shading("vertex" if is_software_renderer(self.gl_renderer) else "pixel")
@@ -234,19 +232,30 @@ class PlanetView:
             lines = [line for line in self.ren_win.ReportCapabilities().splitlines() if "renderer string" in line]
             self.gl_renderer = lines[0].split(":", 1)[1].strip() if lines else ""
 
+    def collect(self):
+        """Take in what the background work has finished, without waiting: the tables of a precompute, the quick
+        view's table of the orders above the first. True when the next frame changes because of it (a window
+        renders then, and otherwise leaves the CPU to the work)."""
+        changed = self._collect_tables()
+        if self.quick is not None:
+            changed = self.quick.collect() or changed
+        return changed
+
     def _collect_tables(self):
+        """Show a finished precompute's tables; True if it did."""
         job = self._job
         if job is None or job.thread.is_alive():
-            return
+            return False
         self._job = None
         if job.atmosphere is not self._atmosphere:         # superseded by a later change
-            return
+            return False
         if job.error is not None:
             self.table_error = job.error                       # keep showing the quick view
-            return
+            return False
         self.table_error = None
         self._drop_actors()
         self._show_tables(job.tables)
+        return True
 
     def wait_for_tables(self, timeout=None):
         """Block until the background precompute (if any) ends, then show its tables."""
