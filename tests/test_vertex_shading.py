@@ -15,6 +15,7 @@ from planetviz.render import Scene  # noqa: E402
 from planetviz.render.direction_mesh import direction_mesh, in_view, may_meet_disc, may_meet_sphere  # noqa: E402
 from planetviz.render.scene import is_software_renderer  # noqa: E402
 from planetviz.render.uniforms import camera_uniforms  # noqa: E402
+from planetviz.validation.pictures import VIEWS, floored_difference, view_luminance  # noqa: E402
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
 
 SIZE = (64, 48)
@@ -241,3 +242,22 @@ def test_an_actor_taken_out_of_the_scene_stops_rebuilding_its_mesh(vertex):
         assert first._mesh_key == key and quick.quick._mesh_key != key
     finally:
         quick.close()
+
+
+@pytest.mark.parametrize("preset", ["earth", "mars"])
+def test_the_limb_from_low_orbit_matches_the_per_pixel_renderer(preset):
+    # The limb's halo seen from 400 km: its radiance falls by e every scale height of the rays' tangent altitude,
+    # so the mesh has rings at tangent altitudes between the planet's limb and the top's (LIMB_RINGS). Measured here
+    # (320x180, draft tables): RMS 0.83% (Earth and Mars) of the floored difference, 4.6% and 6.2% without those
+    # rings; the bound, 2%, sits between.
+    images = []
+    for shading in ("pixel", "vertex"):
+        scene = Scene(preset, quality="draft", surface="texture", off_screen=True, window_size=(320, 180),
+                      shading=shading)
+        try:
+            images.append(view_luminance(scene, VIEWS["limb from 400 km"]))
+        finally:
+            scene.close()
+    pixel, vertex_image = images
+    assert np.mean(pixel > 1e-3 * np.percentile(pixel, 99)) > 0.2
+    assert np.sqrt(np.mean(floored_difference(vertex_image, pixel) ** 2)) < 0.02

@@ -27,15 +27,24 @@ from .uniforms import DisplaySettings, UniformStore, camera_uniforms, frame_key
 SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
 
 
-def _ring_angles(limb, top_limb, rings):
-    """Angles from the nadir [rad] of the rings: dense toward the limb from both sides, two rings 1e-4 rad
-    either side of it, and the top of the atmosphere's limb seen from space."""
+#: Rings between the planet's limb and the top of the atmosphere's, seen from above the top: at the tangent
+#: altitudes (k / n)^2 of the atmosphere's thickness, k = 1 .. n - 1, so that the radiance of the rays through
+#: the limb, which falls by e about every scale height of tangent altitude, changes little between rings.
+LIMB_RINGS = 16
+
+
+def _ring_angles(limb, top_limb, rings, bottom, top, r):
+    """Angles from the nadir [rad] of the rings of a camera at ``r`` from the centre of a planet of radius
+    ``bottom`` under an atmosphere to ``top``: dense toward the limb from both sides, two rings 1e-4 rad either
+    side of it, and, from above the top (``top_limb``, the top's limb, not None), the top's limb and
+    :data:`LIMB_RINGS` rings of tangent altitudes between the two limbs."""
     k = np.arange(1, rings + 1) / (rings + 1)
     inside = limb * (1 - (1 - k) ** 2)
     outside = limb + (math.pi - limb) * k ** 2
     extra = [limb - 1e-4, limb + 1e-4, 0.0, math.pi]
     if top_limb is not None:
-        extra += [top_limb - 1e-3, top_limb, top_limb + 1e-3]
+        tangent = bottom + (top - bottom) * (np.arange(1, LIMB_RINGS) / LIMB_RINGS) ** 2
+        extra += [top_limb - 1e-3, top_limb, top_limb + 1e-3, *np.arcsin(tangent / r)]
     return np.unique(np.clip(np.concatenate([inside, outside, extra]), 0.0, math.pi))
 
 
@@ -46,7 +55,7 @@ def direction_mesh(camera, sun, bottom, top, rings=40, sectors=72):
     down = -camera / r
     limb = math.asin(min(bottom / r, 1.0)) if r > bottom else math.pi / 2
     top_limb = math.asin(top / r) if r > top else None
-    theta = _ring_angles(limb, top_limb, rings)
+    theta = _ring_angles(limb, top_limb, rings, bottom, top, r)
     # Azimuth about the nadir axis, zero toward the sun's azimuth.
     e1 = np.asarray(sun, dtype=float) - np.dot(sun, down) * down
     if np.linalg.norm(e1) < 1e-9:
