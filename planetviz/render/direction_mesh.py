@@ -27,35 +27,41 @@ from .uniforms import DisplaySettings, UniformStore, camera_uniforms, frame_key
 SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
 
 
-#: Rings between the planet's limb and the top of the atmosphere's, seen from above the top: at the tangent
-#: altitudes (k / n)^2 of the atmosphere's thickness, k = 1 .. n - 1, so that the radiance of the rays through
-#: the limb, which falls by e about every scale height of tangent altitude, changes little between rings.
+#: Rings between the planet's limb and the top of the atmosphere's, seen from above the top where that halo is
+#: wider than HALO_PIXELS pixels: at the tangent altitudes (k / n)^2 of the atmosphere's thickness, k = 1 .. n - 1,
+#: so that the radiance of the rays through the limb, which falls by e about every scale height of tangent
+#: altitude, changes little between rings.
 LIMB_RINGS = 16
+HALO_PIXELS = 4
 
 
-def _ring_angles(limb, top_limb, rings, bottom, top, r):
+def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
     """Angles from the nadir [rad] of the rings of a camera at ``r`` from the centre of a planet of radius
     ``bottom`` under an atmosphere to ``top``: dense toward the limb from both sides, two rings 1e-4 rad either
-    side of it, and, from above the top (``top_limb``, the top's limb, not None), the top's limb and
-    :data:`LIMB_RINGS` rings of tangent altitudes between the two limbs."""
+    side of it, and, from above the top (``top_limb``, the top's limb, not None), the top's limb and, where the
+    halo between the two limbs is wider than :data:`HALO_PIXELS` pixels of ``pixel`` [rad] (always for None),
+    :data:`LIMB_RINGS` rings of tangent altitudes across it."""
     k = np.arange(1, rings + 1) / (rings + 1)
     inside = limb * (1 - (1 - k) ** 2)
     outside = limb + (math.pi - limb) * k ** 2
     extra = [limb - 1e-4, limb + 1e-4, 0.0, math.pi]
     if top_limb is not None:
-        tangent = bottom + (top - bottom) * (np.arange(1, LIMB_RINGS) / LIMB_RINGS) ** 2
-        extra += [top_limb - 1e-3, top_limb, top_limb + 1e-3, *np.arcsin(tangent / r)]
+        extra += [top_limb - 1e-3, top_limb, top_limb + 1e-3]
+        if pixel is None or top_limb - limb > HALO_PIXELS * pixel:
+            tangent = bottom + (top - bottom) * (np.arange(1, LIMB_RINGS) / LIMB_RINGS) ** 2
+            extra += list(np.arcsin(tangent / r))
     return np.unique(np.clip(np.concatenate([inside, outside, extra]), 0.0, math.pi))
 
 
-def direction_mesh(camera, sun, bottom, top, rings=40, sectors=72):
-    """(unit directions (n, 3), triangles (m, 3)) of the adaptive sphere of directions around ``camera``."""
+def direction_mesh(camera, sun, bottom, top, rings=40, sectors=72, pixel=None):
+    """(unit directions (n, 3), triangles (m, 3)) of the adaptive sphere of directions around ``camera``;
+    ``pixel``: the angle [rad] a pixel spans at the centre of the view (None: as if it were small)."""
     camera = np.asarray(camera, dtype=float)
     r = np.linalg.norm(camera)
     down = -camera / r
     limb = math.asin(min(bottom / r, 1.0)) if r > bottom else math.pi / 2
     top_limb = math.asin(top / r) if r > top else None
-    theta = _ring_angles(limb, top_limb, rings, bottom, top, r)
+    theta = _ring_angles(limb, top_limb, rings, bottom, top, r, pixel)
     # Azimuth about the nadir axis, zero toward the sun's azimuth.
     e1 = np.asarray(sun, dtype=float) - np.dot(sun, down) * down
     if np.linalg.norm(e1) < 1e-9:
@@ -261,7 +267,9 @@ class DirectionMeshActor:
                      _polydata(points, np.zeros((0, 3), np.int64), "polys")]
         else:
             bottom = self.atmosphere.bottom_radius_m
-            dirs, tris = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m)
+            tan_up, height = np.linalg.norm(view["camera_up"][1]), view["viewport"][1][3]
+            dirs, tris = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m,
+                                        pixel=2.0 * math.atan(tan_up) / max(height, 1.0))
             tris = tris[in_view(dirs, tris, *(view[name][1] for name in ("camera_forward", "camera_right",
                                                                           "camera_up")))]
             # Rays that miss the atmosphere and the sun's disc stay black, the background's colour: their

@@ -3,7 +3,7 @@
 (planetviz/render/direction_mesh.py, shaders/atmosphere_vertex.glsl), interpolated over the triangles and
 completed per pixel with the surface texture and the sun disc (shaders/atmosphere_interpolated.glsl).
 
-About 8,500 vertices read the tables instead of every pixel: the interactive renderer where the GPU is slow (a
+8,000-9,400 vertices read the tables instead of every pixel: the interactive renderer where the GPU is slow (a
 software renderer such as llvmpipe) or the frame is large; its difference from the per-pixel actor is the
 interpolation error between vertices, measured in docs/benchmarks.md.
 """
