@@ -1,8 +1,9 @@
 // The per-vertex renderer's fragments (after atmosphere_ray.glsl, display.glsl and pixel.glsl): the inscatter, the
 // sun disc's radiance and the ground's light of atmosphere_vertex.glsl interpolated over the triangle, completed
-// per pixel with what changes faster across the screen: the surface texture's colour at the pixel's ground point
-// and the sun's cosine there (the terminator); no table is read per pixel. Shown through display.glsl
-// (output_mode 0) or written as it is (1: spectral radiance, 2: linear sRGB).
+// per pixel with what changes faster across the screen: the ray's inscatter_factor (atmosphere_ray.glsl), the
+// surface texture's colour at the pixel's ground point and the sun's cosine there (the terminator); no 4D table
+// is read per pixel. Shown through display.glsl (output_mode 0) or written as it is (1: spectral radiance,
+// 2: linear sRGB).
 //
 // Uniforms: those of the files before it. The constant sky_part (planetviz/render/direction_mesh.py) is true in the
 // part of the mesh whose rays all miss the ground, where the ground's code is left out.
@@ -14,10 +15,10 @@ in mat3 mesh_ground_sun;
 
 vec4 atmosphere_interpolated() {
     vec3 v = pixel_direction();
-    vec3 value = mesh_inscatter;
+    ViewRay ray = view_ray(v);
+    vec3 value = mesh_inscatter * inscatter_factor(ray);
     bool ground = false;
     if (!sky_part) {
-        ViewRay ray = view_ray(v);
         ground = ray_hits_ground(ray);
         if (ground) {
             vec3 n = normalize(ground_point(ray));

@@ -6,7 +6,7 @@
 // evaluates them at the vertices of a direction mesh (atmosphere_vertex.glsl: the 4D tables, most of the cost, and
 // the ground's light split by the sun's cosine) and completes per pixel (atmosphere_interpolated.glsl) what
 // changes faster across the screen: the surface texture, the sun's cosine at the ground point (the terminator),
-// the disc; no table is read per pixel there.
+// the disc, inscatter_factor (below); no 4D table is read per pixel there.
 //
 // Uniforms: those of view.glsl (before it).
 
@@ -86,3 +86,41 @@ vec4 get_sun_transmittance(ViewRay ray, int g) {
     if (ray_intersects_ground(ray.a, ray.mu)) return vec4(0.0);
     return get_transmittance_to_top_atmosphere_boundary(ray.a, ray.mu, g);
 }
+
+// The per-vertex renderer's factor of the inscatter: atmosphere_vertex.glsl divides each vertex's inscatter by it and
+// atmosphere_interpolated.glsl multiplies the interpolated ratio by each pixel's own. It holds what makes the
+// inscatter change across the screen faster than the direction mesh resolves, read per pixel from the 2D tables:
+// - sky_opacity: the opacity 1 - T(x, v) of a ray that leaves through the top (averaged over the first output
+//   group's wavelengths; 1 for a ray to the ground, 0 for one that misses the atmosphere): along the limb's halo
+//   and the horizon the inscatter falls with the ray's optical depth, its ratio to the opacity does not (the
+//   tables' sky half holds that ratio for the same reason, table_lookup.glsl ray_opacity);
+// - twilight_factor: E(a_p, mu_s) / E(a_p, 0), the sky's irradiance at the ray's ground point, or at its point
+//   nearest the planet's centre, p (altitude a_p, sun cosine mu_s there), relative to its value with the sun on
+//   p's horizon; 1 where the sun is above it. Where p is in the planet's shadow (the ground's twilight band seen
+//   from space, the limb over the terminator) the inscatter falls with the height of the shadow over p, as this
+//   irradiance does.
+float sky_opacity(ViewRay ray) {
+    if (!ray.visible) return 0.0;
+    if (ray_intersects_ground(ray.a, ray.mu)) return 1.0;
+    return dot(ray_opacity(ray.a, ray.mu, false, first_group()), vec4(0.25));
+}
+
+float twilight_factor(ViewRay ray) {
+    if (!ray.visible) return 1.0;
+    vec3 p;
+    float a;
+    if (ray_intersects_ground(ray.a, ray.mu)) {
+        p = ground_point(ray);
+        a = 0.0;
+    } else {
+        float t = max(-dot(ray.x, ray.v), 0.0);
+        p = ray.x + t * ray.v;
+        a = altitude_along_ray(ray.a, ray.mu, t);
+    }
+    float mu_s = dot(normalize(p), sun_direction);
+    if (mu_s >= 0.0) return 1.0;
+    float horizon = dot(get_irradiance(a, 0.0, first_group()), vec4(0.25));
+    return horizon > 0.0 ? dot(get_irradiance(a, mu_s, first_group()), vec4(0.25)) / horizon : 1.0;
+}
+
+float inscatter_factor(ViewRay ray) { return sky_opacity(ray) * twilight_factor(ray); }

@@ -8,7 +8,7 @@
 // The constant sky_part (planetviz/render/direction_mesh.py) is true in the part of the mesh whose rays all miss
 // the ground, where the ground's light is left out.
 // Outputs (output channels as output_mode says):
-//   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays)
+//   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays) over the ray's inscatter_factor
 //   mesh_sun           vec3  the disc's radiance T / sun_solid_angle along this direction
 //   mesh_ground_sky    mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
 //                            unit of component k of the surface colour (surface_colour_or_unit)
@@ -61,5 +61,7 @@ void atmosphere_vertex(vec3 vertex_position) {
         mesh_inscatter += to_channels(get_inscatter(ray, g), g);
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;
     }
+    float factor = inscatter_factor(ray);
+    mesh_inscatter = factor > 0.0 ? mesh_inscatter / factor : vec3(0.0);
     ground_light_columns(ray);
 }

@@ -46,7 +46,7 @@ def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
     outside = limb + (math.pi - limb) * k ** 2
     extra = [limb - 1e-4, limb + 1e-4, 0.0, math.pi]
     if top_limb is not None:
-        extra += [top_limb - 1e-3, top_limb, top_limb + 1e-3]
+        extra += [top_limb - 1e-3, top_limb - 1e-5, top_limb + 1e-3]
         if pixel is None or top_limb - limb > HALO_PIXELS * pixel:
             tangent = bottom + (top - bottom) * (np.arange(1, LIMB_RINGS) / LIMB_RINGS) ** 2
             extra += list(np.arcsin(tangent / r))
