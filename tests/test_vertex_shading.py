@@ -154,9 +154,9 @@ def test_culling_to_the_view_leaves_no_pixel_uncovered(vertex, heading, pitch, f
 @pytest.mark.parametrize("view", ["ground", "space"])
 def test_interpolation_error_against_the_per_pixel_renderer(view):
     # What reading the 4D tables per vertex costs in accuracy: the same frame per pixel and per vertex. From the
-    # ground the mesh is dense toward the horizon and around the sun (measured at 1280x720: RMS 0.4%, bound 2%);
-    # from space the error gathers in a band a few pixels wide along the terminator, where the inscatter changes
-    # faster than the mesh resolves (RMS 8% there, docs/benchmarks.md), so the bound is on the median: 1%.
+    # ground the mesh is dense toward the horizon and around the sun (bound 2% RMS); from space what is left
+    # gathers in a few pixels at the limb where it crosses the terminator (docs/benchmarks.md), so the bound is on
+    # the median: 1%.
     size = (160, 120)
     images = []
     for shading in ("pixel", "vertex"):
