@@ -58,17 +58,22 @@ GroundHit ground_hit(ViewRay ray) {
     return h;
 }
 
-// Light scattered toward the camera along the ray, of group g per unit solar irradiance [1/sr]; for ground rays
-// S(x) - T(x, y) S(y) (aerial perspective).
-vec4 get_inscatter(ViewRay ray, int g) {
-    if (!ray.visible) return vec4(0.0);
+// Light scattered toward the camera along the ray, of group g per unit solar irradiance, in its parts before their
+// phases (phased_sum); for ground rays S(x) - T(x, y) S(y) (aerial perspective), part by part.
+ScatteringParts get_inscatter_parts(ViewRay ray, int g) {
+    if (!ray.visible) return ScatteringParts(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
     bool ground = ray_intersects_ground(ray.a, ray.mu);
-    vec4 l = get_phased_scattering(ray.a, ray.mu, ray.mu_s, ray.nu, ground, g);
-    if (!ground) return l;
+    ScatteringParts x = get_scattering_parts(ray.a, ray.mu, ray.mu_s, ray.nu, ground, g);
+    if (!ground) return x;
     GroundHit h = ground_hit(ray);
     vec4 t_xy = get_transmittance(ray.a, ray.mu, h.d, g);
-    return max(l - t_xy * get_phased_scattering(0.0, h.mu, h.mu_s, ray.nu, true, g), 0.0);
+    ScatteringParts y = get_scattering_parts(0.0, h.mu, h.mu_s, ray.nu, true, g);
+    return ScatteringParts(x.rayleigh - t_xy * y.rayleigh, x.mie - t_xy * y.mie, x.multiple - t_xy * y.multiple,
+                           x.multiple_mie - t_xy * y.multiple_mie);
 }
+
+// Light scattered toward the camera along the ray, of group g per unit solar irradiance [1/sr].
+vec4 get_inscatter(ViewRay ray, int g) { return max(phased_sum(get_inscatter_parts(ray, g), ray.nu, g), 0.0); }
 
 // The radiance of a ground of albedo 1 at the end of a ground ray, seen through the atmosphere, of group g per
 // unit solar irradiance: T(x, y) (T_sun max(n . s, 0) + E_sky) / pi [1/sr]; 0 for rays that miss the ground.
@@ -87,40 +92,59 @@ vec4 get_sun_transmittance(ViewRay ray, int g) {
     return get_transmittance_to_top_atmosphere_boundary(ray.a, ray.mu, g);
 }
 
-// The per-vertex renderer's factor of the inscatter: atmosphere_vertex.glsl divides each vertex's inscatter by it and
-// atmosphere_interpolated.glsl multiplies the interpolated ratio by each pixel's own. It holds what makes the
-// inscatter change across the screen faster than the direction mesh resolves, read per pixel from the 2D tables:
-// - sky_opacity: the opacity 1 - T(x, v) of a ray that leaves through the top (averaged over the first output
-//   group's wavelengths; 1 for a ray to the ground, 0 for one that misses the atmosphere): along the limb's halo
-//   and the horizon the inscatter falls with the ray's optical depth, its ratio to the opacity does not (the
-//   tables' sky half holds that ratio for the same reason, table_lookup.glsl ray_opacity);
-// - twilight_factor: E(a_p, mu_s) / E(a_p, 0), the sky's irradiance at the ray's ground point, or at its point
-//   nearest the planet's centre, p (altitude a_p, sun cosine mu_s there), relative to its value with the sun on
-//   p's horizon; 1 where the sun is above it. Where p is in the planet's shadow (the ground's twilight band seen
-//   from space, the limb over the terminator) the inscatter falls with the height of the shadow over p, as this
-//   irradiance does.
-float sky_opacity(ViewRay ray) {
+// The per-vertex renderer's factor of the inscatter, F = path_opacity x twilight_factor x phase_factor: what makes
+// the inscatter change across the screen faster than the direction mesh resolves, computed per pixel from the 2D
+// tables and the phase functions. atmosphere_vertex.glsl passes each vertex's F beside its inscatter, and
+// atmosphere_interpolated.glsl multiplies the interpolated inscatter by F at the pixel over the interpolated F: the
+// interpolation then only has to follow the inscatter's ratio to F, which changes slowly.
+// - path_opacity: the opacity 1 - T of the ray from x to where it leaves the atmosphere or meets the ground
+//   (averaged over the first output group's wavelengths; 0 for a ray that misses the atmosphere): along the limb's
+//   halo, the horizon and the aerial perspective the inscatter grows with the ray's optical depth (the tables' sky
+//   half holds S / (1 - T) for the same reason, table_lookup.glsl ray_opacity);
+// - twilight_factor: E(0, mu_s) / E(0, 0), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's
+//   ground point, or at its point nearest the planet's centre, relative to its value with the sun on the horizon
+//   (mu_s held at mu_s_min below the tables' range; 1 where the sun is above that point's horizon): over the ground's
+//   twilight band seen from space and along the limb over the terminator the inscatter falls with the sun's
+//   depression as this irradiance does;
+// - phase_factor: the phase functions at nu of a mix w of the inscatter's parts before their phases
+//   (get_inscatter_parts; phase_weights: the first output group's parts averaged over its wavelengths, normalised),
+//   w interpolated: around the sun a strong forward lobe changes the inscatter faster than the mesh resolves, while
+//   the parts change slowly. Magnitudes |w| keep it positive where the aerial perspective's parts cancel.
+float path_opacity(ViewRay ray) {
     if (!ray.visible) return 0.0;
-    if (ray_intersects_ground(ray.a, ray.mu)) return 1.0;
-    return dot(ray_opacity(ray.a, ray.mu, false, first_group()), vec4(0.25));
+    int g = first_group();
+    vec4 tau = ray_intersects_ground(ray.a, ray.mu)
+        ? get_optical_depth(ray.a, ray.mu, distance_to_bottom_atmosphere_boundary(ray.a, ray.mu), g)
+        : get_optical_depth_to_top_atmosphere_boundary(ray.a, ray.mu, g);
+    return dot(one_minus_exp(tau), vec4(0.25));
 }
 
 float twilight_factor(ViewRay ray) {
     if (!ray.visible) return 1.0;
-    vec3 p;
-    float a;
-    if (ray_intersects_ground(ray.a, ray.mu)) {
-        p = ground_point(ray);
-        a = 0.0;
-    } else {
-        float t = max(-dot(ray.x, ray.v), 0.0);
-        p = ray.x + t * ray.v;
-        a = altitude_along_ray(ray.a, ray.mu, t);
-    }
+    vec3 p = ray_intersects_ground(ray.a, ray.mu) ? ground_point(ray)
+                                                  : ray.x + max(-dot(ray.x, ray.v), 0.0) * ray.v;
     float mu_s = dot(normalize(p), sun_direction);
     if (mu_s >= 0.0) return 1.0;
-    float horizon = dot(get_irradiance(a, 0.0, first_group()), vec4(0.25));
-    return horizon > 0.0 ? dot(get_irradiance(a, mu_s, first_group()), vec4(0.25)) / horizon : 1.0;
+    float horizon = dot(get_irradiance(0.0, 0.0, first_group()), vec4(0.25));
+    float twilight = dot(get_irradiance(0.0, max(mu_s, mu_s_min), first_group()), vec4(0.25));
+    return horizon > 0.0 ? twilight / horizon : 1.0;
 }
 
-float inscatter_factor(ViewRay ray) { return sky_opacity(ray) * twilight_factor(ray); }
+vec4 phase_weights(ScatteringParts s) {
+    vec4 w = vec4(dot(s.rayleigh, vec4(0.25)), dot(s.mie, vec4(0.25)), dot(s.multiple, vec4(0.25)),
+                  dot(s.multiple_mie, vec4(0.25)));
+    float total = dot(abs(w), vec4(1.0));
+    return total > 0.0 ? w / total : vec4(0.0, 0.0, 1.0, 0.0);
+}
+
+float phase_factor(vec4 w, float nu) {
+    int g = first_group();
+    vec4 phases = vec4(rayleigh_like_phase(nu),
+                       dot(double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g]), vec4(0.25)), 1.0,
+                       dot(forward_factor(nu, g), vec4(0.25)));
+    return dot(abs(w), phases);
+}
+
+float inscatter_factor(ViewRay ray, vec4 w) {
+    return path_opacity(ray) * twilight_factor(ray) * phase_factor(w, ray.nu);
+}

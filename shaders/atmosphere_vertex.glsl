@@ -8,7 +8,9 @@
 // The constant sky_part (planetviz/render/direction_mesh.py) is true in the part of the mesh whose rays all miss
 // the ground, where the ground's light is left out.
 // Outputs (output channels as output_mode says):
-//   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays) over the ray's inscatter_factor
+//   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays)
+//   mesh_phase_weights vec4  phase_weights of the inscatter's parts (atmosphere_ray.glsl)
+//   mesh_factor        float the ray's inscatter_factor (atmosphere_ray.glsl)
 //   mesh_sun           vec3  the disc's radiance T / sun_solid_angle along this direction
 //   mesh_ground_sky    mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
 //                            unit of component k of the surface colour (surface_colour_or_unit)
@@ -20,6 +22,8 @@
 uniform float sun_solid_angle;
 
 out vec3 mesh_inscatter;
+out vec4 mesh_phase_weights;
+out float mesh_factor;
 out vec3 mesh_sun;
 out mat3 mesh_ground_sky;
 out mat3 mesh_ground_sun;
@@ -56,12 +60,15 @@ void ground_light_columns(ViewRay ray) {
 void atmosphere_vertex(vec3 vertex_position) {
     ViewRay ray = view_ray(normalize(vertex_position - camera_position));
     mesh_inscatter = vec3(0.0);
+    mesh_phase_weights = vec4(0.0, 0.0, 1.0, 0.0);
+    mesh_factor = 0.0;
     mesh_sun = vec3(0.0);
     for (int g = first_group(); g <= last_group(); ++g) {
-        mesh_inscatter += to_channels(get_inscatter(ray, g), g);
+        ScatteringParts parts = get_inscatter_parts(ray, g);
+        if (g == first_group()) mesh_phase_weights = phase_weights(parts);
+        mesh_inscatter += to_channels(max(phased_sum(parts, ray.nu, g), 0.0), g);
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;
     }
-    float factor = inscatter_factor(ray);
-    mesh_inscatter = factor > 0.0 ? mesh_inscatter / factor : vec3(0.0);
+    mesh_factor = inscatter_factor(ray, mesh_phase_weights);
     ground_light_columns(ray);
 }

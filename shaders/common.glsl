@@ -76,3 +76,14 @@ vec4 forward_factor(float nu, int g) {
     return double_henyey_greenstein(nu, g1 * g1, g2 * g2, mie_alpha[g]);
 }
 
+// The in-scattered radiance of group g in four parts, each without the phase function that phased_sum applies
+// (per unit solar irradiance): single scattering by molecules (times rayleigh_like_phase) and by particles (times
+// the double Henyey-Greenstein phase), the orders above the first last scattered by molecules (phase included: times
+// 1) and by particles (times forward_factor).
+struct ScatteringParts { vec4 rayleigh; vec4 mie; vec4 multiple; vec4 multiple_mie; };
+
+vec4 phased_sum(ScatteringParts s, float nu, int g) {
+    return s.rayleigh * rayleigh_like_phase(nu) + s.mie * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
+        + s.multiple + forward_factor(nu, g) * s.multiple_mie;
+}
+

@@ -32,12 +32,17 @@ vec4 get_compact_scattering(sampler3D table, vec3 uvw, int g) {
     return texture(table, vec3(uvw.x, uvw.y, (float(g) + uvw.z) / float(group_count)));
 }
 
-// In-scattered radiance of group g (the evaluator's phased_scattering for compact tables): the single-scattering
-// tables times their phase functions at the true nu, plus multiple scattering.
-vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
+// In-scattered radiance of group g in its parts (the evaluator's phased_scattering for compact tables before the
+// phases): the single-scattering tables, and multiple scattering with its phase included (no particle part).
+ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
     vec3 uvw = compact_uvw_from_r_mu_mu_s(a, mu, mu_s);
-    return get_compact_scattering(compact_rayleigh_texture, uvw, g) * rayleigh_like_phase(nu)
-        + get_compact_scattering(compact_mie_texture, uvw, g) * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g],
-                                                                                          mie_alpha[g])
-        + get_compact_scattering(compact_multiple_texture, uvw, g);
+    return ScatteringParts(get_compact_scattering(compact_rayleigh_texture, uvw, g),
+                           get_compact_scattering(compact_mie_texture, uvw, g),
+                           get_compact_scattering(compact_multiple_texture, uvw, g), vec4(0.0));
+}
+
+// In-scattered radiance of group g: the single-scattering tables times their phase functions at the true nu, plus
+// multiple scattering.
+vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
+    return phased_sum(get_scattering_parts(a, mu, mu_s, nu, intersects_ground, g), nu, g);
 }

@@ -1,11 +1,11 @@
 // The in-scattered radiance of one ray from the tables and the quadratures (after horizon.glsl): the GLSL twin of
 // planetviz/tables/evaluator.py's phased_scattering. No uniforms of its own.
 
-// In-scattered radiance of group g (the evaluator's phased_scattering): single scattering with its phases, from the tables
-// or, for ground rays from near the ground, near_ground_single_scattering, and next to the horizon blended with
-// horizon_single_scattering; plus multiple scattering with its tables' ground_row_factor. The four tables' reads share
-// the ray's opacity.
-vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
+// In-scattered radiance of group g in its parts (the evaluator's phased_scattering before the phases): single
+// scattering from the tables or, for ground rays from near the ground, near_ground_single_scattering, and next to the
+// horizon blended with horizon_single_scattering; multiple scattering with its tables' ground_row_factor. The four
+// tables' reads share the ray's opacity.
+ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
     vec4 s_r, s_m;
     vec4 opacity = ray_opacity(a, mu, intersects_ground, g);
     if (near_ground_rays(a, intersects_ground)) {
@@ -21,8 +21,13 @@ vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool interse
             s_m += share * (q_m - s_m);
         }
     }
-    vec4 s_ms = get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g);
-    vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g);
-    return s_r * rayleigh_like_phase(nu) + s_m * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
-        + (s_ms + forward_factor(nu, g) * s_ms_mie) * ground_row_factor(a, mu, intersects_ground, multiple_size.w, g);
+    vec4 row = ground_row_factor(a, mu, intersects_ground, multiple_size.w, g);
+    return ScatteringParts(s_r, s_m,
+        get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g) * row,
+        get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g) * row);
+}
+
+// In-scattered radiance of group g (the evaluator's phased_scattering): get_scattering_parts with their phases.
+vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
+    return phased_sum(get_scattering_parts(a, mu, mu_s, nu, intersects_ground, g), nu, g);
 }
