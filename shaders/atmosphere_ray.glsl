@@ -101,15 +101,16 @@ vec4 get_sun_transmittance(ViewRay ray, int g) {
 //   (averaged over the first output group's wavelengths; 0 for a ray that misses the atmosphere): along the limb's
 //   halo, the horizon and the aerial perspective the inscatter grows with the ray's optical depth (the tables' sky
 //   half holds S / (1 - T) for the same reason, table_lookup.glsl ray_opacity);
-// - twilight_factor: E(0, mu_s) / E(0, 0), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's
-//   ground point, or at its point nearest the planet's centre, relative to its value with the sun on the horizon
-//   (mu_s held at mu_s_min below the tables' range; 1 where the sun is above that point's horizon): over the ground's
-//   twilight band seen from space and along the limb over the terminator the inscatter falls with the sun's
-//   depression as this irradiance does;
-// - phase_factor: the phase functions at nu of a mix w of the inscatter's parts before their phases
-//   (get_inscatter_parts; phase_weights: the first output group's parts averaged over its wavelengths, normalised),
-//   w interpolated: around the sun a strong forward lobe changes the inscatter faster than the mesh resolves, while
-//   the parts change slowly. Magnitudes |w| keep it positive where the aerial perspective's parts cancel.
+// - twilight_factor: E(0, mu_s), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's ground
+//   point, or at its point nearest the planet's centre, held at its value with the sun on the horizon where the sun
+//   is above that point's horizon and at mu_s_min below the tables' range: over the ground's twilight band seen
+//   from space and along the limb over the terminator the inscatter falls with the sun's depression as this
+//   irradiance does (only ratios of F matter, so no normalisation);
+// - phase_factor: the phase functions at nu (the first output group's, averaged over its wavelengths) of a mix w
+//   of the inscatter's parts before their phases (get_inscatter_parts; phase_weights: that group's parts averaged
+//   over its wavelengths, normalised), w interpolated: around the sun a strong forward lobe
+//   changes the inscatter faster than the mesh resolves, while the parts change slowly. Magnitudes |w| keep it
+//   positive where the aerial perspective's parts cancel.
 float path_opacity(ViewRay ray) {
     if (!ray.visible) return 0.0;
     int g = first_group();
@@ -123,11 +124,8 @@ float twilight_factor(ViewRay ray) {
     if (!ray.visible) return 1.0;
     vec3 p = ray_intersects_ground(ray.a, ray.mu) ? ground_point(ray)
                                                   : ray.x + max(-dot(ray.x, ray.v), 0.0) * ray.v;
-    float mu_s = dot(normalize(p), sun_direction);
-    if (mu_s >= 0.0) return 1.0;
-    float horizon = dot(get_irradiance(0.0, 0.0, first_group()), vec4(0.25));
-    float twilight = dot(get_irradiance(0.0, max(mu_s, mu_s_min), first_group()), vec4(0.25));
-    return horizon > 0.0 ? twilight / horizon : 1.0;
+    float mu_s = clamp(dot(normalize(p), sun_direction), mu_s_min, 0.0);
+    return dot(get_irradiance(0.0, mu_s, first_group()), vec4(0.25));
 }
 
 vec4 phase_weights(ScatteringParts s) {
