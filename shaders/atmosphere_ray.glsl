@@ -108,9 +108,9 @@ vec4 get_sun_transmittance(ViewRay ray, int g) {
 //   irradiance does (only ratios of F matter, so no normalisation);
 // - phase_factor: the phase functions at nu (the first output group's, averaged over its wavelengths) of a mix w
 //   of the inscatter's parts before their phases (get_inscatter_parts; phase_weights: that group's parts averaged
-//   over its wavelengths, normalised), w interpolated: around the sun a strong forward lobe
-//   changes the inscatter faster than the mesh resolves, while the parts change slowly. Magnitudes |w| keep it
-//   positive where the aerial perspective's parts cancel.
+//   over its wavelengths, normalised), w interpolated: around the sun a strong forward lobe changes the inscatter
+//   faster than the mesh resolves, while the parts change slowly. Magnitudes |w| keep it positive where the aerial
+//   perspective's parts cancel.
 float path_opacity(ViewRay ray) {
     if (!ray.visible) return 0.0;
     int g = first_group();

@@ -244,6 +244,20 @@ def test_an_actor_taken_out_of_the_scene_stops_rebuilding_its_mesh(vertex):
         quick.close()
 
 
+def _both_renderers(atmosphere, view):
+    """CIE Y of the view class ``view`` (planetviz.validation.pictures.VIEWS) of ``atmosphere``, drawn per pixel and
+    per vertex (320x180, draft tables)."""
+    images = []
+    for shading in ("pixel", "vertex"):
+        scene = Scene(atmosphere, quality="draft", surface="texture", off_screen=True, window_size=(320, 180),
+                      shading=shading)
+        try:
+            images.append(view_luminance(scene, VIEWS[view]))
+        finally:
+            scene.close()
+    return images
+
+
 @pytest.mark.parametrize("preset", ["earth", "mars"])
 def test_the_limb_from_low_orbit_matches_the_per_pixel_renderer(preset):
     # The limb's halo seen from 400 km: its radiance falls by e every scale height of the rays' tangent altitude.
@@ -252,15 +266,7 @@ def test_the_limb_from_low_orbit_matches_the_per_pixel_renderer(preset):
     # issue's targets, 1% RMS and 3% at the 99th percentile (floored difference) rounded up to 2% RMS for a frame
     # this small; measured here (320x180, draft tables) 0.68% / 2.3% (Earth) and 0.14% / 0.71% (Mars), 4.6% and
     # 6.2% RMS without the rings and the correction.
-    images = []
-    for shading in ("pixel", "vertex"):
-        scene = Scene(preset, quality="draft", surface="texture", off_screen=True, window_size=(320, 180),
-                      shading=shading)
-        try:
-            images.append(view_luminance(scene, VIEWS["limb from 400 km"]))
-        finally:
-            scene.close()
-    pixel, vertex_image = images
+    pixel, vertex_image = _both_renderers(preset, "limb from 400 km")
     assert np.mean(pixel > 1e-3 * np.percentile(pixel, 99)) > 0.2
     difference = floored_difference(vertex_image, pixel)
     assert np.sqrt(np.mean(difference ** 2)) < 0.02
@@ -275,15 +281,7 @@ def test_the_terminator_from_orbit_matches_the_per_pixel_renderer(preset):
     # interpolated one. Measured here (320x180, draft tables, floored difference): RMS 1.1-3.1% and p99 4.8-6.5%
     # over the three atmospheres, 4.6-48% and 13-16% without the correction; the bounds, 4% and 8%, sit between (the
     # issue's targets, 1% and 3%, are missed by the limb's pixels over the terminator, a few pixels at this size).
-    images = []
-    for shading in ("pixel", "vertex"):
-        scene = Scene(preset, quality="draft", surface="texture", off_screen=True, window_size=(320, 180),
-                      shading=shading)
-        try:
-            images.append(view_luminance(scene, VIEWS["orbit, terminator"]))
-        finally:
-            scene.close()
-    pixel, vertex_image = images
+    pixel, vertex_image = _both_renderers(preset, "orbit, terminator")
     difference = floored_difference(vertex_image, pixel)
     assert np.sqrt(np.mean(difference ** 2)) < 0.04
     assert np.percentile(difference, 99) < 0.08
@@ -295,15 +293,7 @@ def test_the_forward_lobe_around_the_sun_matches_the_per_pixel_renderer(view):
     # sun faster than the mesh resolves; the fragments evaluate phase_factor at their own view-sun angle. Bounds: the
     # issue's targets, 1% RMS and 3% at the 99th percentile (floored difference); measured here (320x180, draft
     # tables) 0.16-0.24% / 0.5-0.9%, and 1.0-1.2% / 4.2-5.4% without the phase factor.
-    images = []
-    for shading in ("pixel", "vertex"):
-        scene = Scene("mars", quality="draft", surface="texture", off_screen=True, window_size=(320, 180),
-                      shading=shading)
-        try:
-            images.append(view_luminance(scene, VIEWS[view]))
-        finally:
-            scene.close()
-    pixel, vertex_image = images
+    pixel, vertex_image = _both_renderers("mars", view)
     difference = floored_difference(vertex_image, pixel)
     assert np.sqrt(np.mean(difference ** 2)) < 0.01
     assert np.percentile(difference, 99) < 0.03
