@@ -3,7 +3,7 @@ of the direction mesh around the camera (planetviz/render/direction_mesh.py; sha
 twin of planetviz/quick_view/single_scattering.py), with no 4D tables, so every atmosphere parameter takes effect at
 the next frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the
 ground from Hillaire's 2D table (planetviz/quick_view/multiple_scattering.py), computed in NumPy in a background
-thread when the actor is made: the first frame shows single scattering, the frames after the table is ready
+job that starts after the actor's first frame (planetviz/render/background.py): that frame shows single scattering, the frames after the table is ready
 (:meth:`QuickViewActor.collect`, about 0.1 s later) all orders. The inscatter and the ground's light per unit of
 the surface colour are interpolated over the triangles and completed per fragment (shaders/quick_view_fragment.glsl)
 with the surface texture (or the file's uniform albedo) and the sun's cosine at the pixel's ground point, as the
@@ -11,13 +11,12 @@ per-vertex table renderer does; no sun disc.
 """
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..quick_view.multiple_scattering import MS_SIZE, ORDERS, quick_view_tables
 from ..quick_view.single_scattering import SAMPLING, coefficients, check_settings
+from .background import BackgroundJob
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from ..model.color import albedo_matrix
@@ -49,16 +48,13 @@ class QuickViewActor(DirectionMeshActor):
         self.orders = orders if terms == "physical" else "single"
         self.multiple = self.ground_sky = None          # Psi_ms and E_sky once shown
         self._textures, self._job, self._cube_image = {}, None, None
-        self._tables = []
         if self.orders == "all":
-            self._job = threading.Thread(target=lambda: self._tables.append(quick_view_tables(atmosphere)),
-                                         daemon=True)
-            self._job.start()
+            self._job = BackgroundJob(lambda: quick_view_tables(atmosphere))
         super().__init__(atmosphere, renderer, shader_code("common.glsl", "view.glsl", "quick_view_vertex.glsl"),
                          "quick_view_vertex", shader_code("common.glsl", "view.glsl", "display.glsl", "pixel.glsl",
                                                           "quick_view_fragment.glsl"),
                          "quick_view_fragment", split_at_limb=True, settings=settings)
-        self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.deactivate()))
+        self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self._end_frame()))
 
     def static_uniforms(self):
         atm = self.atmosphere
@@ -114,13 +110,13 @@ class QuickViewActor(DirectionMeshActor):
     def collect(self, wait=False):
         """Show the orders above the first from the next frame on, if their table is ready (``wait``: wait for
         it). Returns True when this call switched them on."""
-        if self._job is None or (not wait and self._job.is_alive()):
+        if self._job is None or (not wait and not self._job.done):
             return False
         self._job.join()
-        self._job = None
-        if not self._tables:                          # the computation failed: single scattering stays
+        job, self._job = self._job, None
+        if job.error is not None:                     # the computation failed: single scattering stays
             return False
-        self.multiple, self.ground_sky = self._tables[0]
+        self.multiple, self.ground_sky = job.result
         self._release_textures(MULTIPLE_SCATTERING_TEXTURES)        # bind uploads the tables in their place
         self._frame_key = None                        # new frame uniforms (multiple_scattering) at the next frame
         return True
@@ -140,6 +136,13 @@ class QuickViewActor(DirectionMeshActor):
         for name, tex in self._textures.items():
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())
+
+    def _end_frame(self):
+        """After a frame: release the textures' units and start the table's computation if it waits (so the
+        first frame after a change has the cores to itself, planetviz/render/background.py)."""
+        self.deactivate()
+        if self._job is not None:
+            self._job.start()
 
     def deactivate(self):
         for tex in self._textures.values():

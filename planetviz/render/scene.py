@@ -5,7 +5,6 @@ longitude [deg]; the sun by its elevation and azimuth (from north, through east)
 """
 from __future__ import annotations
 
-import threading
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,6 +22,7 @@ from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.compact import TABLE_KINDS, tables_of_kind
 from ..tables.precompute import QUALITY, precompute
 from .atmosphere_actor import AtmosphereActor
+from .background import BackgroundJob
 from .quick_view_actor import QuickViewActor
 from .hdr import render_spectral, write_exr
 from .surface import surface_texture
@@ -110,6 +110,7 @@ class PlanetView:
         self._shading = "vertex" if shading == "auto" else shading
         self._auto_shading = shading == "auto"
         self.renderer.AddObserver(vtkCommand.EndEvent, self._note_gl_renderer)
+        self.renderer.AddObserver(vtkCommand.EndEvent, self._start_precompute)
         _one_of("quick_orders", quick_orders, ORDERS)
         self.quick_samples, self.quick_terms, self.quick_orders = quick_samples, quick_terms, quick_orders
         self.table_error = None               # why the last background precompute failed, if it did
@@ -185,7 +186,8 @@ class PlanetView:
         """Change the atmosphere, keeping the view. With table rendering, a change that needs new tables shows
         the quick view at once while the tables are computed in a background thread; the next render after they
         are ready shows them (:attr:`renderer_in_use` says which is shown). ``wait``: compute in the foreground;
-        ``force``: new tables even if the parameters did not change (after a change of quality)."""
+        ``force``: new tables even if the parameters did not change (after a change of quality). The precompute
+        starts when the next frame has been drawn (planetviz/render/background.py)."""
         atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
         old = self._atmosphere
         self._atmosphere = atm
@@ -221,11 +223,15 @@ class PlanetView:
     def render(self):
         """Render, first switching to the tables if a background precompute has finished, and the quick view to
         all orders if their table is ready (and settling ``shading="auto"`` once the OpenGL renderer is known)."""
+        self._prepare_frame()
+        return super().render()
+
+    def _prepare_frame(self):
+        """What :meth:`render` does before the frame: take in finished background work, settle the shading."""
         self.collect()
         if self._auto_shading and self.gl_renderer is not None:
             self._auto_shading = False
             self.set_shading("vertex" if is_software_renderer(self.gl_renderer) else "pixel")
-        return super().render()
 
     def _note_gl_renderer(self, caller=None, event=None):
         if self.gl_renderer is None:
@@ -241,10 +247,15 @@ class PlanetView:
             changed = self.quick.collect() or changed
         return changed
 
+    def _start_precompute(self, caller=None, event=None):
+        """At the end of a frame: start the precompute that a change asked for, if it waits."""
+        if self._job is not None:
+            self._job.start()
+
     def _collect_tables(self):
         """Show a finished precompute's tables; True if it did."""
         job = self._job
-        if job is None or job.thread.is_alive():
+        if job is None or not job.done:
             return False
         self._job = None
         if job.atmosphere is not self._atmosphere:         # superseded by a later change
@@ -254,13 +265,13 @@ class PlanetView:
             return False
         self.table_error = None
         self._drop_actors()
-        self._show_tables(job.tables)
+        self._show_tables(job.result)
         return True
 
     def wait_for_tables(self, timeout=None):
         """Block until the background precompute (if any) ends, then show its tables."""
         if self._job is not None:
-            self._job.thread.join(timeout)
+            self._job.join(timeout)
         self._collect_tables()
 
     def _show_tables(self, tables):
@@ -436,9 +447,9 @@ class PlanetView:
         return hdr
 
     def close(self, *args, **kwargs):
-        if self._job is not None:
-            self._job.thread.join()
-            self._job = None
+        if self._job is not None and self._job.started:
+            self._job.join()
+        self._job = None
         if self.planet is not None and self.ren_win is not None:
             self.planet.release()
         return super().close(*args, **kwargs)
@@ -493,19 +504,12 @@ class Scene(PlanetView, pv.Plotter):
         super().__init__(*args, window_size=list(window_size), **kwargs)
 
 
-class _TableJob:
-    """A precompute in a background thread (NumPy and the disk cache only: VTK is touched by the main thread)."""
+class _TableJob(BackgroundJob):
+    """A precompute as a background job (NumPy and the disk cache only: VTK is touched by the main thread);
+    ``progress``: (stage, fraction)."""
 
     def __init__(self, atmosphere, sizes, cache):
         self.atmosphere = atmosphere
-        self.tables = self.error = None
         self.progress = ("starting", 0.0)
-        self.thread = threading.Thread(target=self._run, args=(sizes, cache), daemon=True)
-        self.thread.start()
-
-    def _run(self, sizes, cache):
-        try:
-            self.tables = precompute(self.atmosphere, sizes, cache=cache,
-                                     progress=lambda stage, f: setattr(self, "progress", (stage, f)))
-        except Exception as exc:            # reported through Scene.table_error; the quick view stays
-            self.error = exc
+        super().__init__(lambda: precompute(atmosphere, sizes, cache=cache,
+                                            progress=lambda stage, f: setattr(self, "progress", (stage, f))))

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
-from qtpy import QtCore
+from qtpy import QtCore, QtWidgets
 
 from planetviz.app.probe import probe_directions
 from planetviz.model.limits import LIMITS
@@ -83,6 +83,19 @@ def test_window(qtbot, window, tmp_path):
     assert scene.atmosphere.ground_albedo == (0.9, 0.9, 0.9)
     wait_for_tables(qtbot, w)
     assert picture(w).astype(float).mean() > before.mean() + 5.0
+
+    # A change's first frame is drawn once, by the view's paint (pyvistaqt renders at every paint: rendering
+    # before it as well drew each frame twice), and the new tables start computing after that frame.
+    frames = []
+    observer = scene.renderer.AddObserver("EndEvent", lambda *_: frames.append(1))
+    w._poll.stop()
+    type_into(qtbot, w._boxes["ground albedo"], "0.7")
+    assert frames == [] and not scene._job.started
+    QtWidgets.QApplication.processEvents()
+    assert frames == [1] and scene._job.started
+    scene.renderer.RemoveObserver(observer)
+    w._poll.start()
+    wait_for_tables(qtbot, w)
 
     # An invalid value: g1 beyond the dataclass's limit, then a planet smaller than its atmosphere is thick.
     # Refused with the field and its range named; the atmosphere, the box and the picture stay as they were.
