@@ -1,7 +1,8 @@
 """The Qt window's responsiveness: the time from a parameter change (the ground albedo typed) to its first frame
-on screen, and the longest the event loop waits while the new tables are computed in the background.
+on screen, the longest the event loop waits while the new tables are computed in the background, and the time
+and the frames per step of a mouse drag that turns the view.
 
-    xvfb-run -a -s "-screen 0 1600x1000x24" python benchmarks/window_latency.py [--changes 3]
+    xvfb-run -a -s "-screen 0 1600x1000x24" python benchmarks/window_latency.py [--changes 3] [--drag 20]
 
 Standard tables of Earth, the window 1600x900 (the view about 1150x850), the sun from a site and a time. The
 change to the first frame: from the typed value to the end of the event processing in which the view's paint
@@ -14,12 +15,13 @@ import time
 
 os.environ.pop("VTK_DEFAULT_OPENGL_WINDOW", None)      # a real window (the OSMesa class cannot be embedded)
 
-from qtpy import QtCore, QtWidgets  # noqa: E402
+from qtpy import QtCore, QtGui, QtWidgets  # noqa: E402
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--changes", type=int, default=3)
+    ap.add_argument("--drag", type=int, default=20, help="steps of the mouse drag")
     args = ap.parse_args()
     app = QtWidgets.QApplication([])
     from planetviz.app.qt_window import PlanetWindow
@@ -55,7 +57,26 @@ def main():
             time.sleep(0.005)
         print(f"| albedo {albedo:.2f} | {first:.0f} | {1e3 * longest:.0f} | {time.perf_counter() - start:.1f} |",
               flush=True)
+    drag(app, scene, frames, args.drag)
     window.close()
+
+
+def drag(app, scene, frames, steps):
+    """A left-button drag across the view, one 5-pixel move per step, each step's events processed in full."""
+    view = scene.interactor
+    centre = QtCore.QPointF(view.width() / 2, view.height() / 2)
+    view.mousePressEvent(QtGui.QMouseEvent(QtCore.QEvent.MouseButtonPress, centre, centre, QtCore.Qt.LeftButton,
+                                           QtCore.Qt.LeftButton, QtCore.Qt.NoModifier))
+    app.processEvents()
+    frames.clear()
+    t0 = time.perf_counter()
+    for k in range(1, steps + 1):
+        moved = QtCore.QPointF(centre.x() + 5 * k, centre.y())
+        app.sendEvent(view, QtGui.QMouseEvent(QtCore.QEvent.MouseMove, moved, moved, QtCore.Qt.NoButton,
+                                              QtCore.Qt.LeftButton, QtCore.Qt.NoModifier))
+        app.processEvents()
+    per_step = 1e3 * (time.perf_counter() - t0) / steps
+    print(f"\ndrag: {per_step:.0f} ms and {len(frames) / steps:.1f} frames per step ({steps} steps)")
 
 
 if __name__ == "__main__":

@@ -30,6 +30,7 @@ from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
 from matplotlib.figure import Figure
 from pyvistaqt import QtInteractor
 from qtpy import QtCore, QtGui, QtWidgets
+from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..model.limits import AtmosphereError
 from ..model.presets import PRESETS
@@ -60,12 +61,28 @@ class QtScene(PlanetView, QtInteractor):
 
     def __init__(self, atmosphere="earth", parent=None, **kwargs):
         super().__init__(atmosphere, parent=parent, auto_update=False, **kwargs)
+        interactor = self.iren.interactor
+        interactor.EnableRenderOff()               # its Render() then only signals RenderEvent
+        interactor.AddObserver(vtkCommand.RenderEvent, self._interactor_render)
 
     def request_frame(self):
         """Ask for a frame of the current state: drawn when Qt next paints the view (pyvistaqt renders at every
         paint, so :meth:`render`, which renders at once and then asks for a paint, draws each frame twice)."""
         self._prepare_frame()
         self.interactor.update()
+
+    def _after_frame(self, caller=None, event=None):
+        """At the end of a frame: start the background work once Qt has finished the paint (it composes the
+        window after the render; work started now would compete with that)."""
+        QtCore.QTimer.singleShot(0, self._start_background)
+
+    def _interactor_render(self, caller=None, event=None):
+        """The VTK interactor's render (camera drags, the view's paint): inside the paint, render; elsewhere ask
+        for a paint, which renders (rendering there as well drew every step of a drag twice)."""
+        if getattr(self.interactor, "_in_paint", True):
+            self.ren_win.Render()
+        else:
+            self.interactor.update()
 
 
 class NumberBox(QtWidgets.QDoubleSpinBox):

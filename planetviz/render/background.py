@@ -3,9 +3,10 @@ above the first.
 
 A :class:`BackgroundJob` is made when a change needs the work and starts when the scene draws the frame that
 follows the change (or when someone waits for it), so that frame has the cores to itself; a job superseded before
-that frame never runs. It runs at the lowest CPU priority where a thread can have its own (Linux), so the frames
-drawn while it runs keep the cores too (on a software renderer the frames are the CPU's work as well; the change
-to the first frame in docs/benchmarks.md, "Quick view").
+that frame never runs. A job can run at a lower CPU priority where a thread can have its own (Linux), so the
+frames drawn while it runs keep most of the cores (on a software renderer the frames are the CPU's work as
+well; the change to the first frame in docs/benchmarks.md, "Quick view"), without being starved by a window that
+renders continuously (a playing sequence, a long drag).
 """
 from __future__ import annotations
 
@@ -13,26 +14,28 @@ import os
 import sys
 import threading
 
-#: The niceness of a background job's thread (Linux; elsewhere it runs at the process's priority).
-BACKGROUND_NICENESS = 19
+#: The niceness of the precompute's thread (Linux): against a thread of niceness 0 it gets about a tenth of a
+#: core both want (the kernel's weights 110 and 1024).
+BACKGROUND_NICENESS = 10
 
 
-def _lower_priority():
-    """Give the calling thread the lowest CPU priority, where the system has per-thread priorities (Linux)."""
-    if sys.platform.startswith("linux"):
+def _set_niceness(niceness):
+    """Give the calling thread this niceness, where the system has per-thread priorities (Linux)."""
+    if niceness and sys.platform.startswith("linux"):
         try:
-            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), BACKGROUND_NICENESS)
+            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), niceness)
         except OSError:                       # not permitted here: the job runs at the process's priority
             pass
 
 
 class BackgroundJob:
-    """``work()`` in a daemon thread at the lowest priority, started by :meth:`start` (once; :meth:`join` starts it
-    too). ``result`` holds what ``work`` returned and ``error`` the exception it raised, once :attr:`done`."""
+    """``work()`` in a daemon thread at ``niceness`` (0: the process's priority), started by :meth:`start` (once;
+    :meth:`join` starts it too). ``result`` holds what ``work`` returned and ``error`` the exception it raised,
+    once :attr:`done`."""
 
-    def __init__(self, work):
+    def __init__(self, work, niceness=0):
         self.result = self.error = None
-        self._work = work
+        self._work, self._niceness = work, niceness
         self._thread = threading.Thread(target=self._run, daemon=True)
         self.started = False
 
@@ -52,7 +55,7 @@ class BackgroundJob:
         self._thread.join(timeout)
 
     def _run(self):
-        _lower_priority()
+        _set_niceness(self._niceness)
         try:
             self.result = self._work()
         except Exception as exc:              # the caller reads it from ``error`` and keeps what it shows

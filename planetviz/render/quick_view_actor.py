@@ -3,7 +3,8 @@ of the direction mesh around the camera (planetviz/render/direction_mesh.py; sha
 twin of planetviz/quick_view/single_scattering.py), with no 4D tables, so every atmosphere parameter takes effect at
 the next frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the
 ground from Hillaire's 2D table (planetviz/quick_view/multiple_scattering.py), computed in NumPy in a background
-job that starts after the actor's first frame (planetviz/render/background.py): that frame shows single scattering, the frames after the table is ready
+job that the scene starts after the actor's first frame (planetviz/render/background.py): that frame shows single
+scattering, the frames after the table is ready
 (:meth:`QuickViewActor.collect`, about 0.1 s later) all orders. The inscatter and the ground's light per unit of
 the surface colour are interpolated over the triangles and completed per fragment (shaders/quick_view_fragment.glsl)
 with the surface texture (or the file's uniform albedo) and the sun's cosine at the pixel's ground point, as the
@@ -54,7 +55,7 @@ class QuickViewActor(DirectionMeshActor):
                          "quick_view_vertex", shader_code("common.glsl", "view.glsl", "display.glsl", "pixel.glsl",
                                                           "quick_view_fragment.glsl"),
                          "quick_view_fragment", split_at_limb=True, settings=settings)
-        self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self._end_frame()))
+        self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.deactivate()))
 
     def static_uniforms(self):
         atm = self.atmosphere
@@ -137,10 +138,9 @@ class QuickViewActor(DirectionMeshActor):
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())
 
-    def _end_frame(self):
-        """After a frame: release the textures' units and start the table's computation if it waits (so the
-        first frame after a change has the cores to itself, planetviz/render/background.py)."""
-        self.deactivate()
+    def start_job(self):
+        """Start computing the table of the orders above the first, if it waits (the scene starts it after the
+        actor's first frame, planetviz/render/background.py)."""
         if self._job is not None:
             self._job.start()
 

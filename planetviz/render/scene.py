@@ -22,7 +22,7 @@ from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.compact import TABLE_KINDS, tables_of_kind
 from ..tables.precompute import QUALITY, precompute
 from .atmosphere_actor import AtmosphereActor
-from .background import BackgroundJob
+from .background import BACKGROUND_NICENESS, BackgroundJob
 from .quick_view_actor import QuickViewActor
 from .hdr import render_spectral, write_exr
 from .surface import surface_texture
@@ -110,7 +110,7 @@ class PlanetView:
         self._shading = "vertex" if shading == "auto" else shading
         self._auto_shading = shading == "auto"
         self.renderer.AddObserver(vtkCommand.EndEvent, self._note_gl_renderer)
-        self.renderer.AddObserver(vtkCommand.EndEvent, self._start_precompute)
+        self.renderer.AddObserver(vtkCommand.EndEvent, self._after_frame)
         _one_of("quick_orders", quick_orders, ORDERS)
         self.quick_samples, self.quick_terms, self.quick_orders = quick_samples, quick_terms, quick_orders
         self.table_error = None               # why the last background precompute failed, if it did
@@ -247,10 +247,16 @@ class PlanetView:
             changed = self.quick.collect() or changed
         return changed
 
-    def _start_precompute(self, caller=None, event=None):
-        """At the end of a frame: start the precompute that a change asked for, if it waits."""
+    def _after_frame(self, caller=None, event=None):
+        """At the end of a frame: start the background work that a change asked for."""
+        self._start_background()
+
+    def _start_background(self):
+        """Start the precompute and the quick view's table, where they wait."""
         if self._job is not None:
             self._job.start()
+        if self.quick is not None:
+            self.quick.start_job()
 
     def _collect_tables(self):
         """Show a finished precompute's tables; True if it did."""
@@ -512,4 +518,5 @@ class _TableJob(BackgroundJob):
         self.atmosphere = atmosphere
         self.progress = ("starting", 0.0)
         super().__init__(lambda: precompute(atmosphere, sizes, cache=cache,
-                                            progress=lambda stage, f: setattr(self, "progress", (stage, f))))
+                                            progress=lambda stage, f: setattr(self, "progress", (stage, f))),
+                         niceness=BACKGROUND_NICENESS)

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
-from qtpy import QtCore, QtWidgets
+from qtpy import QtCore, QtGui, QtWidgets
 
 from planetviz.app.probe import probe_directions
 from planetviz.model.limits import LIMITS
@@ -92,10 +92,26 @@ def test_window(qtbot, window, tmp_path):
     type_into(qtbot, w._boxes["ground albedo"], "0.7")
     assert frames == [] and not scene._job.started
     QtWidgets.QApplication.processEvents()
-    assert frames == [1] and scene._job.started
-    scene.renderer.RemoveObserver(observer)
+    assert frames == [1]
+    qtbot.waitUntil(lambda: scene._job.started, timeout=2000)
     w._poll.start()
     wait_for_tables(qtbot, w)
+
+    # A drag turns the view with one frame per step (the VTK interactor's render asks for the paint that renders).
+    w._poll.stop()
+    centre = QtCore.QPoint(scene.interactor.width() // 2, scene.interactor.height() // 2)
+    qtbot.mousePress(scene.interactor, QtCore.Qt.LeftButton, pos=centre)
+    QtWidgets.QApplication.processEvents()
+    position, frames[:] = scene.camera.position, []
+    for step in range(1, 4):
+        moved = QtCore.QPointF(centre.x() + 10 * step, centre.y())
+        QtWidgets.QApplication.sendEvent(scene.interactor, QtGui.QMouseEvent(
+            QtCore.QEvent.MouseMove, moved, moved, QtCore.Qt.NoButton, QtCore.Qt.LeftButton, QtCore.Qt.NoModifier))
+        QtWidgets.QApplication.processEvents()
+    qtbot.mouseRelease(scene.interactor, QtCore.Qt.LeftButton, pos=centre)
+    assert frames == [1, 1, 1] and scene.camera.position != position
+    scene.renderer.RemoveObserver(observer)
+    w._poll.start()
 
     # An invalid value: g1 beyond the dataclass's limit, then a planet smaller than its atmosphere is thick.
     # Refused with the field and its range named; the atmosphere, the box and the picture stay as they were.
