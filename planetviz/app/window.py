@@ -257,12 +257,11 @@ class PlanetApp:
                 f"tone mapping {s.settings.tone_mapping}")
 
     def refresh(self):
-        """Render once, timing the frame, and update the status line."""
+        """Update the status line (with the previous frame's time) and render once, timing the frame."""
+        self._status.SetText(0, self.status_text())
         t0 = time.perf_counter()
         self.scene.render()
         self._frame_ms = 1e3 * (time.perf_counter() - t0)
-        self._status.SetText(0, self.status_text())
-        self.scene.render()
 
     def poll(self, step=None):
         """Timer callback: show finished tables and the precompute progress."""
