@@ -99,8 +99,10 @@ def main(out):
     result["file_message"] = app.message
     result["file_refused_kept"] = scene.atmosphere is good
     h = refused.shape[0]
-    # The picture below the message line (drawn at the top edge): unchanged.
-    result["picture_change_after_refusal"] = float(np.abs(refused[h // 5:].astype(float) - after[h // 5:]).mean())
+    # The picture between the message line (drawn at the top edge) and the status line (the bottom edge, with
+    # the last frame's time): unchanged.
+    result["picture_change_after_refusal"] = float(np.abs(refused[h // 5:-h // 10].astype(float)
+                                                          - after[h // 5:-h // 10]).mean())
     press(scene, "F2")                                      # the Mars preset
     app.refresh()
     scene.screenshot(str(out.with_name("window-mars.png")))
