@@ -78,7 +78,7 @@ class QtScene(PlanetView, QtInteractor):
 
     def _interactor_render(self, caller=None, event=None):
         """The VTK interactor's render (camera drags, the view's paint): inside the paint, render; elsewhere ask
-        for a paint, which renders (rendering there as well drew every step of a drag twice)."""
+        for a paint, which renders (rendering here as well would draw every step of a drag twice)."""
         if getattr(self.interactor, "_in_paint", True):
             self.ren_win.Render()
         else:

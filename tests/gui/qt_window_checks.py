@@ -85,7 +85,7 @@ def test_window(qtbot, window, tmp_path):
     assert picture(w).astype(float).mean() > before.mean() + 5.0
 
     # A change's first frame is drawn once, by the view's paint (pyvistaqt renders at every paint: rendering
-    # before it as well drew each frame twice), and the new tables start computing after that frame.
+    # before it as well would draw each frame twice), and the new tables start computing after that frame.
     frames = []
     observer = scene.renderer.AddObserver("EndEvent", lambda *_: frames.append(1))
     w._poll.stop()
