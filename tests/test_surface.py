@@ -8,11 +8,10 @@ import pytest
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 
-from planetviz import load_atmosphere  # noqa: E402
 from planetviz.model.color import albedo_matrix  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
 from planetviz.render.surface import (cube_face_uv, equirect_colour, srgb_decode, srgb_encode,  # noqa: E402
-                                      surface_cube, surface_texture)
+                                      surface_cube)
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
 
 
@@ -93,19 +92,3 @@ def test_the_ground_shows_the_map_through_the_atmosphere(shading):
     assert ground.sum() > 100
     rel = np.abs(got - want)[ground] / want[ground]
     assert rel.max() < 0.01, rel.max()
-
-
-def test_a_map_gets_its_cube_once_and_a_changed_map_a_new_one():
-    # A read-only map (read_image's) is found again by identity, a writable one by its bytes: the same cube object
-    # for the same map, a new cube once a writable map's texels change.
-    image = smooth_map()
-    fixed = image.copy()
-    fixed.flags.writeable = False
-    assert surface_cube(fixed) is surface_cube(fixed)
-    writable = image.copy()
-    first = surface_cube(writable)
-    assert surface_cube(writable) is first
-    writable[: writable.shape[0] // 2] = 255
-    assert not np.array_equal(surface_cube(writable), first)
-    earth = surface_texture(load_atmosphere("earth"))
-    assert not earth.flags.writeable

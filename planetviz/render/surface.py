@@ -31,9 +31,7 @@ def read_image(path):
     data = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)
     if data.shape[-1] < 3 or data.dtype != np.uint8:
         raise ValueError(f"surface texture {path}: an 8-bit RGB image is needed")
-    image = np.ascontiguousarray(data[::-1, :, :3])
-    image.flags.writeable = False             # fixed content: surface_cube finds its cube by identity
-    return image
+    return np.ascontiguousarray(data[::-1, :, :3])
 
 
 def write_image(path, rgb):
@@ -128,22 +126,16 @@ def surface_cube(image):
     layer order :data:`CUBE_FACES`, each face a gnomonic projection with a one-texel border holding what lies just
     beyond its edge, so bilinear filtering at an edge blends the right neighbours. The shaders read it with
     ``cube_face_uv``: no trigonometry per pixel (atan and asin cost 0.05 ms of a 1.26 ms frame on the H100). The
-    default n is 1.25 w / 4, a little finer than the map along the equator, where a face spans a quarter of it.
-    Made once per map: a read-only array that owns its data (:func:`read_image`'s) is found again by its
-    identity, any other by a hash of its bytes (9 ms for the Earth's 2048 x 1024 map, at every change of the
-    atmosphere)."""
+    default n is 1.25 w / 4, a little finer than the map along the equator, where a face spans a quarter of it."""
     image = np.ascontiguousarray(image, dtype=np.uint8)
     h, w, _ = image.shape
     n = max(4, round(1.25 * w / 4))
-    if not image.flags.writeable and image.flags.owndata:
-        key = ("identity", id(image), n)
-    else:
-        key = (hashlib.blake2b(image.data, digest_size=16).digest(), image.shape, n)
+    key = (hashlib.blake2b(image.data, digest_size=16).digest(), image.shape, n)
     if key not in _CUBES:
         if len(_CUBES) >= 4:                                 # a few maps are kept: building one takes ~0.7 s
             _CUBES.pop(next(iter(_CUBES)))
-        _CUBES[key] = (image, _build_cube(image, n))     # the image kept: its identity is not reused meanwhile
-    return _CUBES[key][1]
+        _CUBES[key] = _build_cube(image, n)
+    return _CUBES[key]
 
 
 def _build_cube(image, n):
