@@ -83,7 +83,8 @@ vec4 forward_factor(float nu, int g) {
 struct ScatteringParts { vec4 rayleigh; vec4 mie; vec4 multiple; vec4 multiple_mie; };
 
 vec4 phased_sum(ScatteringParts s, float nu, int g) {
-    return s.rayleigh * rayleigh_like_phase(nu) + s.mie * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
+    return s.rayleigh * rayleigh_like_phase(nu)
+        + s.mie * double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g])
         + s.multiple + forward_factor(nu, g) * s.multiple_mie;
 }
 

@@ -151,7 +151,8 @@ class ProgressBar(QtWidgets.QWidget):
         painter = QtGui.QPainter(self)
         palette = self.palette()
         painter.fillRect(self.rect(), palette.color(QtGui.QPalette.Base))
-        painter.fillRect(0, 0, round(self.fraction * self.width()), self.height(), palette.color(QtGui.QPalette.Highlight))
+        painter.fillRect(0, 0, round(self.fraction * self.width()), self.height(),
+                         palette.color(QtGui.QPalette.Highlight))
         painter.end()
 
 
