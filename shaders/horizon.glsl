@@ -1,17 +1,14 @@
-// Single scattering integrated along the rays next to the horizon's direction (after near_ground.glsl): the GLSL
-// twin of planetviz/tables/horizon.py.
+// Single scattering integrated along the rays next to the horizon's direction and the rays along which the sun is
+// low somewhere (after near_ground.glsl): the GLSL twin of planetviz/tables/horizon.py, whose docstring says why.
+// No uniforms of its own.
 //
-// Uniforms (set by planetviz/render/atmosphere_actor.py for every draw):
-//   horizon_quadrature          int    1: the rays next to the horizon's direction are integrated (horizon_share),
-//                                      0 for optically thick atmospheres (planetviz/tables/horizon.py)
-uniform int horizon_quadrature;
-
-// ------------------------------------------------------------------- next to the horizon (NumPy twin:
-// planetviz/tables/horizon.py, whose docstring says why): single scattering of the rays within HORIZON_BAND of the
-// horizon's direction by Gauss-Legendre nodes on each side of the closest approach of each lit part of the ray,
-// blended into the tables' reading by horizon_share.
+// The rays within HORIZON_BAND of the horizon's direction (horizon_share) and those along which the sun's elevation
+// falls below TWILIGHT_BAND (twilight_share) take their single scattering from Gauss-Legendre nodes on each side of
+// the closest approach of each lit part of the ray, blended into the tables' reading by the larger share
+// (quadrature_share).
 #define HORIZON_SAMPLES 12
 const vec2 HORIZON_BAND = vec2(0.01, 0.03);
+const vec2 TWILIGHT_BAND = vec2(0.0, 0.034899497);          // sin(0 deg), sin(2 deg)
 const float HORIZON_NODES[12] = float[12](0.009219683, 0.047941372, 0.115048663, 0.206341023, 0.316084251,
     0.437383296, 0.562616704, 0.683915749, 0.793658977, 0.884951337, 0.952058628, 0.990780317);
 const float HORIZON_WEIGHTS[12] = float[12](0.023587668, 0.053469663, 0.080039164, 0.101583713, 0.116746268,
@@ -26,10 +23,33 @@ const float HORIZON_WEIGHTS_ONE_SIDE[24] = float[24](0.006170615, 0.014265694, 0
     0.022138719, 0.014265694, 0.006170615);
 
 float horizon_share(float a, float mu) {
-    if (horizon_quadrature == 0) return 0.0;
     float mu_h = -sqrt(a * (a + 2.0 * bottom_radius)) / radius_of(a);
     float x = clamp((HORIZON_BAND.y - abs(mu - mu_h)) / (HORIZON_BAND.y - HORIZON_BAND.x), 0.0, 1.0);
     return x * x * (3.0 - 2.0 * x);
+}
+
+// The least cos(sun zenith) at the points of the ray (a, mu) from 0 to d: at an end, or where the point's direction,
+// which turns by theta_d in the plane of the camera's and the view's, points most away from the sun.
+float lowest_mu_s(float a, float mu, float mu_s, float nu, float d) {
+    float sin_v = sqrt(max(1.0 - mu * mu, 0.0));
+    float theta_d = atan(d * sin_v, radius_of(a) + d * mu);
+    float b_max = sqrt(max(1.0 - mu_s * mu_s, 0.0));
+    float b = sin_v > 0.0 ? clamp((nu - mu * mu_s) / sin_v, -b_max, b_max) : 0.0;
+    float low = min(mu_s, mu_s * cos(theta_d) + b * sin(theta_d));
+    bool between = mod(atan(b, mu_s) + PI, 2.0 * PI) <= theta_d;
+    return between ? min(low, -sqrt(mu_s * mu_s + b * b)) : low;
+}
+
+float twilight_share(float a, float mu, float mu_s, float nu, bool intersects_ground) {
+    float d = intersects_ground ? distance_to_bottom_atmosphere_boundary(a, mu)
+                                : distance_to_top_atmosphere_boundary(a, mu);
+    float low = lowest_mu_s(a, mu, mu_s, nu, d);
+    float x = clamp((TWILIGHT_BAND.y - low) / (TWILIGHT_BAND.y - TWILIGHT_BAND.x), 0.0, 1.0);
+    return x * x * (3.0 - 2.0 * x);
+}
+
+float quadrature_share(float a, float mu, float mu_s, float nu, bool intersects_ground) {
+    return max(horizon_share(a, mu), twilight_share(a, mu, mu_s, nu, intersects_ground));
 }
 
 // Node k (0 .. 2 HORIZON_SAMPLES - 1) of precompute.py's ray_nodes on [start, end] along (a, mu): t = t_c -+ span u^2

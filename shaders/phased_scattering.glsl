@@ -3,8 +3,8 @@
 
 // In-scattered radiance of group g in its parts (the evaluator's phased_scattering before the phases): single
 // scattering from the tables or, for ground rays from near the ground, near_ground_single_scattering, and next to the
-// horizon blended with horizon_single_scattering; multiple scattering with its tables' ground_row_factor. The four
-// tables' reads share the ray's opacity.
+// horizon or with the sun low along the ray blended with horizon_single_scattering (quadrature_share); multiple
+// scattering with its tables' ground_row_factor. The four tables' reads share the ray's opacity.
 ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
     vec4 s_r, s_m;
     vec4 opacity = ray_opacity(a, mu, intersects_ground, g);
@@ -13,7 +13,7 @@ ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bo
     } else {
         s_r = get_scattering(single_rayleigh_texture, single_size, a, mu, mu_s, nu, intersects_ground, opacity, g);
         s_m = get_scattering(single_mie_texture, single_size, a, mu, mu_s, nu, intersects_ground, opacity, g);
-        float share = horizon_share(a, mu);
+        float share = quadrature_share(a, mu, mu_s, nu, intersects_ground);
         if (share > 0.0) {
             vec4 q_r, q_m;
             horizon_single_scattering(a, mu, mu_s, nu, intersects_ground, g, q_r, q_m);

@@ -39,7 +39,7 @@ def multiple_only(monkeypatch, tables, camera, view, sun):
     zero = np.zeros_like(tables.rayleigh)
     with monkeypatch.context() as m:
         m.setattr(evaluator, "near_ground_rays", lambda t, r, ground: np.zeros(np.shape(r), bool))
-        m.setattr(evaluator, "horizon_share", lambda r, mu, bottom: np.zeros(np.shape(mu)))
+        m.setattr(evaluator, "quadrature_share", lambda r, mu, *rest: np.zeros(np.shape(mu)))
         return sky_radiance(replace(tables, rayleigh=zero, mie=zero), EARTH, camera, view, sun)
 
 def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along_the_rays(standard_single,

@@ -22,7 +22,6 @@ from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
 from ..model.color import albedo_matrix
 from ..tables.compact import CompactTables
-from ..tables.horizon import horizon_quadrature_applies
 from ..tables.near_ground import near_ground_altitude
 from ..tables.parameterization import MU_S_MIN
 from .shaders import shader_code
@@ -45,13 +44,12 @@ DENSITY_TABLE = 1024
 
 def ray_quadrature_uniforms(atm, tables):
     """What shaders/near_ground.glsl's and shaders/horizon.glsl's quadratures along rays (near_ground_single_scattering,
-    horizon_single_scattering) take besides :func:`density_image`: the scattering coefficients, the altitude
-    below which ground rays are integrated and whether the rays next to the horizon are."""
+    horizon_single_scattering) take besides :func:`density_image`: the scattering coefficients and the altitude
+    below which ground rays are integrated."""
     per_group = lambda values: groups_array(pad_groups(values))
     return {"rayleigh_scattering": ("4fv", per_group(atm.rayleigh.scattering_m)),
             "mie_scattering": ("4fv", per_group(atm.mie.scattering_m)),
-            "near_ground_altitude": ("f", near_ground_altitude(tables)),
-            "horizon_quadrature": ("i", int(horizon_quadrature_applies(atm)))}
+            "near_ground_altitude": ("f", near_ground_altitude(tables))}
 
 
 def density_image(atm, n=DENSITY_TABLE):

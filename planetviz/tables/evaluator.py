@@ -8,8 +8,9 @@ For a camera x (moved to the top of the atmosphere when it is in space), view di
   T(x, y) (a / pi) [T_sun(y) max(n . s, 0) + E_sky(y)]  (Lambertian, lit by the sun and the sky).
 
 Single scattering is read from the tables except for ground rays from cameras near the ground
-(tables/near_ground.py) and rays next to the horizon's direction (tables/horizon.py, blended into the tables'
-reading): there it is integrated along the ray with the tables' transmittances.
+(tables/near_ground.py), and rays next to the horizon's direction or along which the sun is low somewhere
+(tables/horizon.py, blended into the tables' reading): there it is integrated along the ray with the tables'
+transmittances.
 
 ``tables`` is a 4D set (:class:`~planetviz.tables.precompute.Tables`) or a compact one
 (:class:`~planetviz.tables.compact.CompactTables`: the same formulas, in-scattering read without nu).
@@ -25,7 +26,7 @@ from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
 from .lookup import (get_irradiance, get_scattering, get_transmittance, get_transmittance_to_sun,
                      get_transmittance_to_top_atmosphere_boundary, ground_row_factor, ray_opacity)
-from .horizon import horizon_quadrature_applies, horizon_share, horizon_single_scattering
+from .horizon import horizon_single_scattering, quadrature_share
 from .near_ground import near_ground_rays, near_ground_single_scattering
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
@@ -33,7 +34,8 @@ from .parameterization import distance_to_bottom_atmosphere_boundary, ray_inters
 def phased_scattering(tables, atm, r, mu, mu_s, nu, ground):
     """In-scattered radiance (..., W): single scattering with its phases, plus multiple scattering. Ground rays
     from cameras near the ground take their single scattering from near_ground.py, not the tables; the other
-    rays next to the horizon's direction from horizon.py, blended into the tables' reading by its share."""
+    rays next to the horizon's direction or with the sun low along them from horizon.py, blended into the tables'
+    reading by its share."""
     if isinstance(tables, CompactTables):
         s_r, s_m, s_ms = (get_compact_scattering(tables, table, r, mu, mu_s)
                           for table in (tables.rayleigh, tables.mie, tables.multiple))
@@ -44,9 +46,9 @@ def phased_scattering(tables, atm, r, mu, mu_s, nu, ground):
         near = near_ground_rays(tables, r, ground)
         if np.any(near):
             s_r[near], s_m[near] = near_ground_single_scattering(tables, atm, r[near], mu[near], mu_s[near], nu[near])
-        share = np.where(near, 0.0, horizon_share(r, mu, tables.bottom))
+        share = np.where(near, 0.0, quadrature_share(r, mu, mu_s, nu, ground, tables.bottom, tables.top))
         band = share > 0.0
-        if np.any(band) and horizon_quadrature_applies(atm):
+        if np.any(band):
             q_r, q_m = horizon_single_scattering(tables, atm, r[band], mu[band], mu_s[band], nu[band], ground[band])
             w = share[band][..., None]
             s_r[band] += w * (q_r - s_r[band])
