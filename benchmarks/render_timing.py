@@ -5,7 +5,9 @@ per pixel and per vertex, beside a plain textured sphere timed in the same run.
         [--sizes 1280x720 1920x1080] [--frames 100] [--pixel-frames 10]
 
 Views: Earth from orbit (4 radii, 30 deg: the planet fills ~40% of the frame), from the ground (2 m, looking
-along the horizon: the whole frame is sky and ground) and from 1e9 m (the planet a few pixels wide). The plain
+along the horizon: the whole frame is sky and ground), the same in twilight (the sun 3 deg below the horizon
+ahead: every ray's single scattering by quadrature, docs/tables.md) and from 1e9 m (the planet a few pixels
+wide); the sun as the scene places it by default except in twilight. The plain
 sphere is PyVista's textured sphere with VTK's default lighting and the same Earth texture, seen from the orbit
 view: what a globe without an atmosphere costs. Median ms per frame over ``--frames`` (``--pixel-frames`` for the
 per-pixel renderer, at 1-4 s per frame on llvmpipe), still and (per vertex) with the camera moving, each frame
@@ -68,6 +70,8 @@ def main():
     args = ap.parse_args()
     views = {"orbit (4 radii)": lambda s: s.view_from_space(latitude=20, longitude=10),
              "ground, sky and ground": lambda s: s.view_from_ground(latitude=45, heading=90, pitch=5),
+             "ground, twilight": lambda s: (s.set_sun(elevation=-3.0, azimuth=90.0, latitude=45.0, longitude=0.0),
+                                            s.view_from_ground(latitude=45, heading=90, pitch=5)),
              "1e9 m (a few pixels)": lambda s: s.view_from_space(distance=1e9, fov=30)}
     print("| size | plain textured sphere | view | per pixel | per vertex | per vertex, camera moving |")
     print("|---|---|---|---|---|---|")
@@ -76,7 +80,9 @@ def main():
         results = {}
         for shading in ("pixel", "vertex"):
             scene = Scene("earth", quality=args.quality, off_screen=True, window_size=(w, h), shading=shading)
+            default_sun = vars(scene.sun).copy()
             for name, set_view in views.items():
+                scene.set_sun(**default_sun)
                 set_view(scene)
                 scene.render()
                 results[name, shading] = frame_ms(scene.ren_win, args.pixel_frames if shading == "pixel"
