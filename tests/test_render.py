@@ -78,15 +78,15 @@ def test_shader_radiance_matches_the_tables_command(earth, view, tmp_path):
         earth.set_sun(elevation=8, azimuth=150, latitude=30, longitude=0)
     elif view == "horizon":
         # From 30 km, 8 deg about the horizon's direction (5.56 deg down), a sun 3 deg down behind the camera:
-        # every pixel within tables/horizon.py's band, whose quadrature replaces the tables' reading there (and
-        # its GLSL twin, horizon_single_scattering). Measured on llvmpipe: 1.9e-5; with the GLSL twin's blend left
+        # every pixel within tables/horizon.py's bands, whose quadrature replaces the tables' reading there (and
+        # its GLSL twin, horizon_single_scattering). Measured on llvmpipe: 1.7e-5; with the GLSL twin's blend left
         # out (the tables read as they are) 20%.
         earth.view_from_ground(latitude=30, altitude=3e4, heading=270, pitch=-5.5, fov=8)
         earth.set_sun(elevation=-3.0, azimuth=90, latitude=30, longitude=0)
     else:
         # From 3 km, below the draft tables' row 5, away from a sun 1.5 deg down: the ground rays run into the
         # planet's shadow, and both integrate only their lit part (near_ground.shadow_interval and its GLSL twin).
-        # Measured on llvmpipe: 8.7e-6 (space 2.3e-4, ground 2.4e-5, aircraft 9.1e-6); with the GLSL twin's shadow
+        # Measured on llvmpipe: 1.0e-5 (space 2.3e-4, ground 2.4e-5, aircraft 9.1e-6); with the GLSL twin's shadow
         # left out (the rays' halves integrated whole) 3.2%.
         earth.view_from_ground(latitude=30, altitude=3e3, heading=270, pitch=-3, fov=70)
         earth.set_sun(elevation=-1.5, azimuth=90, latitude=30, longitude=0)
