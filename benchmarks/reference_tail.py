@@ -1,0 +1,50 @@
+"""The reference solver's heavy tail on given rays: the same rays solved with more and more paths, beside the
+standard tables.
+
+    python benchmarks/reference_tail.py [--seed 5] [--cameras ground aircraft] [--light deep-twilight]
+                                        [--paths 4096 65536] [--wavelength 2]
+
+Rays: planetviz.validation.rays of the random atmosphere ``--seed`` (2 per camera class, the suite's rays). For
+each path count the radiance at wavelength index ``--wavelength`` with its standard error, and the tables'
+reading. Where the estimator's error bars are honest the estimates agree within a few standard errors whatever
+the paths; where a rare path carries most of the light the smaller counts read low by more than that.
+"""
+import argparse
+import time
+
+import numpy as np
+
+from planetviz.reference import solve
+from planetviz.tables import QUALITY, TableCache, precompute
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.validation import CAMERAS, LIGHT, random_atmosphere, rays
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seed", type=int, default=5)
+    ap.add_argument("--cameras", nargs="+", default=["ground", "aircraft"], choices=list(CAMERAS))
+    ap.add_argument("--light", default="deep-twilight", choices=list(LIGHT))
+    ap.add_argument("--paths", type=int, nargs="+", default=[4096, 65536])
+    ap.add_argument("--wavelength", type=int, default=2)
+    args = ap.parse_args()
+    atm = random_atmosphere(args.seed)
+    w = args.wavelength
+    tables = precompute(atm, QUALITY["standard"], cache=TableCache())
+    print(f"random atmosphere {args.seed}, {args.light}, {atm.wavelengths_nm[w]:g} nm")
+    print("| camera | ray | paths | seconds | reference [1/sr] | standard error | tables |")
+    print("|---|---|---|---|---|---|---|")
+    for camera in args.cameras:
+        cams, views, suns = rays(atm, args.seed, camera, args.light, n=2)
+        got, _ = sky_radiance(tables, atm, cams, views, suns)
+        for paths in args.paths:
+            t0 = time.perf_counter()
+            res = solve(atm, cams, views, suns, samples=paths, seed=123)
+            seconds = time.perf_counter() - t0
+            for k in range(len(cams)):
+                print(f"| {camera} | {k} | {paths} | {seconds:.0f} | {res.radiance[k, w]:.3e} | "
+                      f"{res.stderr[k, w]:.2e} | {got[k, w]:.3e} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
