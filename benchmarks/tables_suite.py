@@ -3,7 +3,7 @@ tuning and the held-out split.
 
     python benchmarks/tables_suite.py [--split tuning held-out] [--atmospheres 8] [--rays 2] [--quality standard]
                                       [--paths 4096] [--presets earth mars exo-co2-thick] [--worst 10] [--single]
-                                      [--conditions]
+                                      [--conditions] [--multiple N_NU N_MU_S N_MU N_R]
 
 Atmospheres: planetviz.validation.random_atmosphere over the first ``--atmospheres`` seeds of each split (the
 held-out split's seeds are never read while tuning), and the presets with the tuning split. Rays:
@@ -23,9 +23,11 @@ multiple-scattering and sky-irradiance tables set to 0) with the deterministic q
 planetviz/reference/single.py, which has no noise (relative error below 1e-4): most of the light by day, and
 resolvable at any level. The difference is taken relative to the whole radiance (the stored reference's, all
 orders), so that a ray whose first order is a small part of its light (the twilight sky seen from the planet's
-shadow) weighs by that part; the noise column is then 0.
+shadow) weighs by that part; the noise column is then 0. ``--multiple`` sets the multiple-scattering tables' size
+(n_nu, n_mu_s, n_mu, n_r) in place of the quality level's.
 """
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -54,8 +56,11 @@ def compare(split, args):
     """Rows (atmosphere, camera class, light class, camera altitude [m], relative error (W,), relative noise (W,))."""
     rows = []
     cache = TableCache()
+    sizes = QUALITY[args.quality]
+    if args.multiple:
+        sizes = replace(sizes, multiple=tuple(args.multiple))
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
-        tables = precompute(atm, QUALITY[args.quality], cache=cache)
+        tables = precompute(atm, sizes, cache=cache)
         for light in LIGHT:
             batch = [rays(atm, seed, camera, light, n=args.rays) for camera in CAMERAS]
             cams, views, suns = (np.concatenate(x) for x in zip(*batch))
@@ -124,6 +129,8 @@ def main():
     ap.add_argument("--single", action="store_true", help="the first order against the reference quadrature")
     ap.add_argument("--conditions", action="store_true",
                     help="also the daylight errors grouped by planetviz.tables.validated's conditions")
+    ap.add_argument("--multiple", type=int, nargs=4, metavar=("N_NU", "N_MU_S", "N_MU", "N_R"),
+                    help="the multiple-scattering tables' size instead of the quality level's")
     args = ap.parse_args()
     results = []
     for split in args.split:
