@@ -124,13 +124,21 @@ vec4 get_irradiance(float a, float mu_s, int g) {
 }
 
 // ---------------------------------------------------------------------------------------------- scattering
-// Bruneton's sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation).
+// Bruneton's sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation), on the
+// geometry of parameterization.py's mu_s_geometry: the planet's radii, or a smaller planet under the same
+// thickness whose H / (R_t - R_b) is MU_S_RATIO_LIMIT.
+const float MU_S_RATIO_LIMIT = 16.0;
+
 float x_mu_s_from_mu_s(float mu_s) {
-    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
-    float d_min = top_radius - bottom_radius;
-    float d_max = h;
-    float a = (distance_to_top_atmosphere_boundary(0.0, mu_s) - d_min) / (d_max - d_min);
-    float big_a = (distance_to_top_atmosphere_boundary(0.0, mu_s_min) - d_min) / (d_max - d_min);
+    float thickness = top_radius - bottom_radius;
+    float r = min(bottom_radius, thickness * (MU_S_RATIO_LIMIT * MU_S_RATIO_LIMIT - 1.0) / 2.0);
+    float top = r + thickness;
+    float d_min = thickness;
+    float d_max = sqrt(thickness * (top + r));
+    float disc = r * r * (mu_s * mu_s - 1.0) + top * top;
+    float disc_min = r * r * (mu_s_min * mu_s_min - 1.0) + top * top;
+    float a = (max(-r * mu_s + safe_sqrt(disc), 0.0) - d_min) / (d_max - d_min);
+    float big_a = (max(-r * mu_s_min + safe_sqrt(disc_min), 0.0) - d_min) / (d_max - d_min);
     return (1.0 - a / big_a) / (1.0 + a);
 }
 

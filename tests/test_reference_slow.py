@@ -1,6 +1,4 @@
 """Slow checks of the reference solver (pytest -m slow; CI runs them)."""
-import warnings
-
 import numpy as np
 import pytest
 
@@ -46,58 +44,6 @@ def test_multiple_scattering_adds_light_and_dominates_in_the_thick_atmosphere():
     assert full.radiance[0, 2] > 2.0 * single[0, 2]
 
 
-def _plane_parallel_atmosphere(aerosol: bool):
-    """A planet of the format's largest radius (1e9 m: plane-parallel to 1e-4 over a 60 km atmosphere),
-    Earth's Rayleigh layer, optionally an absorbing aerosol with a peaked phase function, ground albedo 0.3."""
-    earth = load_atmosphere("earth").to_dict()
-    d = dict(earth, name="plane-parallel", bottom_radius_m=1.0e9, top_radius_m=1.0e9 + 6.0e4, absorption=[],
-             ground_albedo=[0.3, 0.3, 0.3])
-    zero = [0.0, 0.0, 0.0]
-    d["mie"] = dict(earth["mie"], scattering_m=[1.8e-5, 2.0e-5, 2.2e-5] if aerosol else zero,
-                    extinction_m=[2.0e-5, 2.2e-5, 2.45e-5] if aerosol else zero,
-                    phase={"g1": [0.85, 0.85, 0.85], "g2": [-0.1, -0.1, -0.1], "alpha": [0.9, 0.9, 0.9]})
-    return type(load_atmosphere("earth")).from_dict(d)
-
-
-def _disort(atm, w, mu0, views, n_quad=64, layers=120):
-    """Radiance [1/sr per unit irradiance] from PythonicDISORT for the views (mu, phi) at optical depths tau
-    (mu < 0: looking up; phi: the view's azimuth from the sun's), plane-parallel, per ../shared/notes/disort.md:
-    layers thin at the ground (exact layer-mean coefficients), delta-M with the Nakajima-Tanaka correction,
-    Lambertian ground as its zeroth BDRF mode, irradiance 1 normal to the beam."""
-    from PythonicDISORT import pydisort
-    from PythonicDISORT.subroutines import interpolate
-    z_top = atm.thickness_m
-    x = np.linspace(0.0, 1.0, layers + 1)
-    edges = z_top * np.expm1(6.0 * x) / np.expm1(6.0)                  # 2 m at the ground, 2 km at the top
-    top, bottom = edges[::-1][:-1], edges[::-1][1:]                       # layers from the top down
-
-    def column(ext, profile):
-        h = profile.scale_height_m
-        return ext * h * (np.exp(-bottom / h) - np.exp(-top / h))
-    tau_r = column(atm.rayleigh.scattering_m[w], atm.rayleigh.profile)
-    tau_ms = column(atm.mie.scattering_m[w], atm.mie.profile)
-    tau_me = column(atm.mie.extinction_m[w], atm.mie.profile)
-    tau = tau_r + tau_me
-    omega = np.minimum((tau_r + tau_ms) / tau, 1.0 - 1e-8)
-    n_leg = n_quad + 1
-    ell = np.arange(n_leg)
-    rayleigh = np.zeros(n_leg)
-    rayleigh[0], rayleigh[2] = 1.0, 0.1
-    g1, g2, alpha = atm.mie.g1[w], atm.mie.g2[w], atm.mie.alpha[w]
-    mie = alpha * g1 ** ell + (1.0 - alpha) * g2 ** ell
-    leg = (tau_r[:, None] * rayleigh + tau_ms[:, None] * mie) / np.maximum(tau_r + tau_ms, 1e-300)[:, None]
-    tau_cum = np.cumsum(tau)
-    peaked = atm.mie.scattering_m[w] > 0.0                  # delta-M and NT only where a lobe is truncated
-    with warnings.catch_warnings():
-        # omega = 1 - 1e-8 in the pure Rayleigh layers is the note's recipe for a conservative scatterer.
-        warnings.filterwarnings("ignore", message="Some delta-scaled single-scattering albedos")
-        _, _, _, _, u = pydisort(tau_cum, omega, n_quad, leg, mu0, 1.0, 0.0, NLeg=n_quad,
-                                 f_arr=leg[:, n_quad] if peaked else 0.0, NT_cor=peaked,
-                                 BDRF_Fourier_modes=[float(atm.ground_albedo[w])])
-    u = interpolate(u, NT_cor="eval" if peaked else None)
-    return np.array([u(mu, t * tau_cum[-1], phi).item() for mu, phi, t in views])
-
-
 @pytest.mark.parametrize("aerosol", [False, True], ids=["rayleigh", "rayleigh+aerosol"])
 def test_plane_parallel_limit_agrees_with_disort(aerosol):
     # An outside check: the reference solver in the plane-parallel limit against the discrete-ordinates
@@ -105,24 +51,14 @@ def test_plane_parallel_limit_agrees_with_disort(aerosol):
     # down, the sun 50 deg from the zenith. Bound: 4.5 combined standard errors of the reference plus 0.3% of
     # the value, DISORT's own error (64 against 128 streams differ by at most 0.3%, median 2e-5, in
     # ../shared/notes/disort.md), plus the planet's curvature (1e-4 at 1e9 m).
-    atm = _plane_parallel_atmosphere(aerosol)
-    rg, rt = atm.bottom_radius_m, atm.top_radius_m
+    from planetviz.validation.disort import disort_radiance, ground_and_top_views, plane_parallel_atmosphere
+    atm = plane_parallel_atmosphere(aerosol)
     theta0 = np.radians(50.0)
     sun = np.array([np.sin(theta0), 0.0, np.cos(theta0)])
-    views, cams, dirs = [], [], []
-    for zen in (20.0, 55.0, 78.0):
-        for az in (0.0, 90.0, 180.0):
-            z, a = np.radians(zen), np.radians(az)
-            horizontal = np.array([np.sin(z) * np.cos(a), np.sin(z) * np.sin(a), 0.0])
-            views.append((-np.cos(z), a, 1.0))                               # at the ground, looking up
-            cams.append([0.0, 0.0, rg + 1e-3])
-            dirs.append(horizontal + [0.0, 0.0, np.cos(z)])
-            views.append((np.cos(z), a, 0.0))                                # at the top, looking down
-            cams.append([0.0, 0.0, rt + 1.0])
-            dirs.append(horizontal - [0.0, 0.0, np.cos(z)])
-    ref = solve(atm, np.array(cams), np.array(dirs), sun, samples=8192, seed=9)
+    views, cams, dirs = ground_and_top_views(atm)
+    ref = solve(atm, cams, dirs, sun, samples=8192, seed=9)
     for w in range(atm.n_wavelengths):
-        want = _disort(atm, w, np.cos(theta0), views)
+        want = disort_radiance(atm, w, np.cos(theta0), views)
         got, err = ref.radiance[:, w], ref.stderr[:, w]
         bound = 4.5 * err + 3e-3 * want + 1e-4 * want
         assert np.all(np.abs(got - want) <= bound), (w, np.c_[got, want, err])

@@ -1,0 +1,88 @@
+"""The plane-parallel limit against DISORT, the discrete-ordinates solver of the atmospheric-science community
+(PythonicDISORT on PyPI, the ``test`` extra): an outside, deterministic answer for all orders of scattering on a
+planet of the format's largest radius, per ../shared/notes/disort.md's conventions."""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..model.presets import load_atmosphere
+
+
+def plane_parallel_atmosphere(aerosol: bool, radius_m: float = 1.0e9):
+    """A planet of radius ``radius_m`` (at the format's largest, 1e9 m, plane-parallel to 1e-4 over a 60 km
+    atmosphere), Earth's Rayleigh layer, optionally an absorbing aerosol with a peaked phase function (g1 = 0.85,
+    g2 = -0.1, alpha = 0.9), no absorbing layer, ground albedo 0.3.
+
+    >>> plane_parallel_atmosphere(False).bottom_radius_m
+    1000000000.0
+    """
+    earth = load_atmosphere("earth").to_dict()
+    d = dict(earth, name="plane-parallel", bottom_radius_m=radius_m, top_radius_m=radius_m + 6.0e4, absorption=[],
+             ground_albedo=[0.3, 0.3, 0.3])
+    zero = [0.0, 0.0, 0.0]
+    d["mie"] = dict(earth["mie"], scattering_m=[1.8e-5, 2.0e-5, 2.2e-5] if aerosol else zero,
+                    extinction_m=[2.0e-5, 2.2e-5, 2.45e-5] if aerosol else zero,
+                    phase={"g1": [0.85, 0.85, 0.85], "g2": [-0.1, -0.1, -0.1], "alpha": [0.9, 0.9, 0.9]})
+    return type(load_atmosphere("earth")).from_dict(d)
+
+
+def disort_radiance(atm, w, mu0, views, n_quad=64, layers=120):
+    """Radiance [1/sr per unit irradiance normal to the beam] at wavelength index w from PythonicDISORT, the sun's
+    cosine ``mu0``, for the views (mu, phi, t): mu < 0 looking up, phi the view's azimuth from the sun's, t the
+    optical depth's fraction from the top (0 the top, 1 the ground). Plane-parallel, exponential profiles only;
+    layers thin at the ground (2 m, 2 km at the top; exact layer-mean coefficients), delta-M with the
+    Nakajima-Tanaka correction where the particles scatter, the Lambertian ground as its zeroth BDRF mode; the
+    direct beam excluded. 64 streams against 128 differ by at most 0.3% (median 2e-5, ../shared/notes/disort.md).
+    """
+    from PythonicDISORT import pydisort
+    from PythonicDISORT.subroutines import interpolate
+    z_top = atm.thickness_m
+    x = np.linspace(0.0, 1.0, layers + 1)
+    edges = z_top * np.expm1(6.0 * x) / np.expm1(6.0)
+    top, bottom = edges[::-1][:-1], edges[::-1][1:]                       # layers from the top down
+
+    def column(ext, profile):
+        h = profile.scale_height_m
+        return ext * h * (np.exp(-bottom / h) - np.exp(-top / h))
+    tau_r = column(atm.rayleigh.scattering_m[w], atm.rayleigh.profile)
+    tau_ms = column(atm.mie.scattering_m[w], atm.mie.profile)
+    tau_me = column(atm.mie.extinction_m[w], atm.mie.profile)
+    tau = tau_r + tau_me
+    omega = np.minimum((tau_r + tau_ms) / tau, 1.0 - 1e-8)
+    n_leg = n_quad + 1
+    ell = np.arange(n_leg)
+    rayleigh = np.zeros(n_leg)
+    rayleigh[0], rayleigh[2] = 1.0, 0.1
+    g1, g2, alpha = atm.mie.g1[w], atm.mie.g2[w], atm.mie.alpha[w]
+    mie = alpha * g1 ** ell + (1.0 - alpha) * g2 ** ell
+    leg = (tau_r[:, None] * rayleigh + tau_ms[:, None] * mie) / np.maximum(tau_r + tau_ms, 1e-300)[:, None]
+    tau_cum = np.cumsum(tau)
+    peaked = atm.mie.scattering_m[w] > 0.0                  # delta-M and NT only where a lobe is truncated
+    with warnings.catch_warnings():
+        # omega = 1 - 1e-8 in the pure Rayleigh layers is the note's recipe for a conservative scatterer.
+        warnings.filterwarnings("ignore", message="Some delta-scaled single-scattering albedos")
+        _, _, _, _, u = pydisort(tau_cum, omega, n_quad, leg, mu0, 1.0, 0.0, NLeg=n_quad,
+                                 f_arr=leg[:, n_quad] if peaked else 0.0, NT_cor=peaked,
+                                 BDRF_Fourier_modes=[float(atm.ground_albedo[w])])
+    u = interpolate(u, NT_cor="eval" if peaked else None)
+    return np.array([u(mu, t * tau_cum[-1], phi).item() for mu, phi, t in views])
+
+
+def ground_and_top_views(atm, zeniths_deg=(20.0, 55.0, 78.0), azimuths_deg=(0.0, 90.0, 180.0)):
+    """(DISORT views (mu, phi, t), cameras (N, 3) [m], view directions (N, 3)) at the ground looking up and at the
+    top looking down, at every view zenith angle x azimuth from the sun's (the sun in the x-z plane, x > 0)."""
+    rg, rt = atm.bottom_radius_m, atm.top_radius_m
+    views, cams, dirs = [], [], []
+    for zen in zeniths_deg:
+        for az in azimuths_deg:
+            z, a = np.radians(zen), np.radians(az)
+            horizontal = np.array([np.sin(z) * np.cos(a), np.sin(z) * np.sin(a), 0.0])
+            views.append((-np.cos(z), a, 1.0))                               # at the ground, looking up
+            cams.append([0.0, 0.0, rg + 1e-3])
+            dirs.append(horizontal + [0.0, 0.0, np.cos(z)])
+            views.append((np.cos(z), a, 0.0))                                # at the top, looking down
+            cams.append([0.0, 0.0, rt + 1.0])
+            dirs.append(horizontal - [0.0, 0.0, np.cos(z)])
+    return views, np.array(cams), np.array(dirs)
