@@ -190,6 +190,39 @@ def test_twilight_rays_are_integrated_in_the_shaders_as_in_the_evaluator(shading
     assert np.max(np.abs(tables - want) / np.maximum(want, floor)) > 10 * BOUND
 
 
+@pytest.mark.parametrize("shading", ["pixel", "vertex"])
+def test_a_large_planets_sun_angles_are_read_as_in_the_evaluator(shading):
+    # parameterization.mu_s_geometry (GLSL twin in shaders/table_lookup.glsl, x_mu_s_from_mu_s): on a 1e9 m planet
+    # under 60 km of air the sun-zenith texels are placed on a smaller planet's geometry; the shaders must read
+    # them where the evaluator does. From the ground looking up and from 1000 km looking down, the sun 50 deg from
+    # the zenith; bound as the generated views'. Read on the planet's own geometry instead, the coordinate of a
+    # sun 50 deg from the zenith moves by 1.2 of the multiple-scattering tables' 32 texels (a shader that did so
+    # read 17% off).
+    from planetviz.tables.parameterization import mu_s_geometry
+    from planetviz.validation.disort import plane_parallel_atmosphere
+    atm = plane_parallel_atmosphere(False, 1e9)
+    assert mu_s_geometry(atm.bottom_radius_m, atm.top_radius_m)[0] < atm.bottom_radius_m
+    scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=SIZE, shading=shading)
+    scene.settings.show_sun = False
+    try:
+        scene.set_sun(elevation=40.0, azimuth=90.0, latitude=0.0, longitude=0.0)
+        for altitude, pitch in ((2.0, 60.0), (1e6, -60.0)):
+            scene.view_from_ground(latitude=0, heading=30, pitch=pitch, fov=40, altitude=altitude)
+            rows, cols = np.meshgrid(np.arange(SIZE[1]), np.arange(SIZE[0]), indexing="ij")
+            dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
+            if shading == "vertex":
+                scene.planet.directions = dirs
+            got = scene.render_hdr().radiance.reshape(-1, atm.n_wavelengths)
+            scene.planet.directions = None
+            want, _ = sky_radiance(scene.planet.tables, atm, np.tile(scene.camera_location, (len(dirs), 1)), dirs,
+                                   scene.sun_direction)
+            keep = ~ambiguous(scene, dirs)
+            err = np.abs(got - want)[keep] / np.maximum(want[keep], FLOOR * want.max())
+            assert err.max() < BOUND, (altitude, err.max())
+    finally:
+        scene.close()
+
+
 @pytest.mark.slow
 def test_sixty_four_wavelengths_render_as_the_evaluator_says():
     # The most wavelengths the renderer takes (16 groups of 4: MAX_GROUPS): 22 read-back passes, every one of

@@ -353,3 +353,19 @@ def test_twilight_fades_smoothly_past_the_end_of_the_tables():
     step = radiance[3] / radiance[2]
     assert np.all((step > 0.7) & (step < 1.0))
     assert np.all(radiance[-1] < 1e-2 * radiance[3])         # measured: 4700x darker at the nadir sun
+
+
+def test_the_sun_zenith_axis_keeps_the_day_on_every_planet():
+    # parameterization.x_mu_s_from_mu_s: the sun from the zenith to 80 deg keeps at least the share of the axis
+    # that H / (R_t - R_b) = MU_S_RATIO_LIMIT (16) gives, 25.8% (in closed form from Bruneton's mapping), on
+    # planets from 1e5 to 1e9 m under 1 m to 1e6 m of air; on the planet's own geometry a 1e9 m planet under
+    # 60 km keeps 2.6%. Where the ratio is below the limit (the presets) the mapping is the planet's own.
+    from planetviz.tables import parameterization as p
+    day = lambda bottom, top: 1.0 - p.x_mu_s_from_mu_s(np.cos(np.radians(80.0)), bottom, top)
+    for bottom in (1e5, 6.36e6, 1e8, 1e9):
+        for thickness in (1.0, 6e4, 1e6):
+            assert day(bottom, bottom + thickness) >= 0.258, (bottom, thickness)
+    earth = load_atmosphere("earth")
+    assert p.mu_s_geometry(earth.bottom_radius_m, earth.top_radius_m) == (earth.bottom_radius_m, earth.top_radius_m)
+    x = np.linspace(0.0, 1.0, 11)
+    assert np.allclose(p.x_mu_s_from_mu_s(p.mu_s_from_x_mu_s(x, 1e9, 1e9 + 6e4), 1e9, 1e9 + 6e4), x, atol=1e-9)
