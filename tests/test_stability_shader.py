@@ -155,7 +155,7 @@ def test_a_camera_metres_up_is_drawn_where_it_is(scenes, shading):
 
 
 @pytest.mark.parametrize("shading", ["pixel", "vertex"])
-def test_twilight_rays_are_integrated_in_the_shaders_as_in_the_evaluator(shading):
+def test_twilight_rays_are_integrated_in_the_shaders_as_in_the_evaluator(shading, monkeypatch):
     # tables/horizon.py's twilight share (GLSL twin in shaders/horizon.glsl): a thin atmosphere over a small planet
     # (random atmosphere 2: 6.8 km of air over a 705 km planet), 100 m up, the sun 5 deg below the horizon ahead,
     # where every ray's single scattering comes from the quadrature. The shaders against the evaluator, bound as
@@ -177,12 +177,9 @@ def test_twilight_rays_are_integrated_in_the_shaders_as_in_the_evaluator(shading
         got = scene.render_hdr().radiance.reshape(-1, atm.n_wavelengths)
         cams = np.tile(scene.camera_location, (len(dirs), 1))
         want, _ = sky_radiance(scene.planet.tables, atm, cams, dirs, scene.sun_direction)
-        tables_only = evaluator.quadrature_share
-        try:
-            evaluator.quadrature_share = lambda r, mu, *rest: np.zeros(np.shape(mu))
+        with monkeypatch.context() as m:
+            m.setattr(evaluator, "quadrature_share", lambda r, mu, *rest: np.zeros(np.shape(mu)))
             tables, _ = sky_radiance(scene.planet.tables, atm, cams, dirs, scene.sun_direction)
-        finally:
-            evaluator.quadrature_share = tables_only
     finally:
         scene.close()
     floor = FLOOR * want.max()

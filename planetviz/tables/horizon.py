@@ -11,7 +11,7 @@ tables read the rays within 1e-2 (in mu) of the horizon's direction 1.3-2.0x as 
 from space) the planet's shadow cuts the ray, and the light comes from the lit part's sunward end: its edge moves
 along the ray as the sun moves, which texels in mu_s 0.5-3 deg apart cannot follow. There the standard tables read
 the first order 3-12% RMS off of the whole radiance in twilight (the sun to 6 deg down where the ray looks; up to
-57% on single rays) and up to 180 times the whole radiance on limb rays in deep twilight, on the random
+57% on single rays) and up to 184 times the whole radiance on limb rays in deep twilight, on the random
 atmospheres of benchmarks/tables_suite.py (--single).
 
 How. Rays within ``HORIZON_BAND[1]`` of the horizon's direction mu_h = -sqrt(1 - (R_b / r)^2) (:func:`horizon_share`),

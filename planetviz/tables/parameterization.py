@@ -261,7 +261,7 @@ def unrefine_dipping_rays(x, r, bottom, top):
 
 
 #: The largest H / (R_t - R_b), H = sqrt(R_t^2 - R_b^2), of the geometry on which :func:`x_mu_s_from_mu_s` places
-#: the sun-zenith texels (the Earth's is 14.6, Mars's 8.2).
+#: the sun-zenith texels (the Earth's is 14.6, Mars's 8.3).
 MU_S_RATIO_LIMIT = 16.0
 
 
