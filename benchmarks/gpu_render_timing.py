@@ -89,7 +89,8 @@ def prepared_actor(data, renderer, half_float, shading="pixel"):
 
     class Prepared(AtmosphereActor if shading == "pixel" else VertexAtmosphereActor):
         def static_uniforms(self):
-            return _static(data, "static")
+            factor = self.factor_textures.uniforms() if shading == "vertex" else {}
+            return {**_static(data, "static"), **factor}
 
     return Prepared(load_atmosphere("earth"), earth_tables(data), renderer, surface=data["surface"],
                     half_float_tables=half_float)

@@ -9,10 +9,11 @@ along the horizon: the whole frame is sky and ground), the same in twilight (the
 ahead: every ray's single scattering by quadrature, docs/tables.md) and from 1e9 m (the planet a few pixels
 wide); the sun as the scene places it by default except in twilight. The plain
 sphere is PyVista's textured sphere with VTK's default lighting and the same Earth texture, seen from the orbit
-view: what a globe without an atmosphere costs. Median ms per frame over ``--frames`` (``--pixel-frames`` for the
-per-pixel renderer, at 1-4 s per frame on llvmpipe), still and (per vertex) with the camera moving, each frame
-finished with WaitForCompletion, after one
-warm-up frame (shader compile and table upload). Multisampling is off everywhere (PyVista's default of 8
+view: what a globe without an atmosphere costs, drawn in its own window after each per-vertex frame, so that each
+ratio to it is measured over the same seconds (this machine's speed drifts by 10-30% between runs). Median ms per
+frame over ``--frames`` (``--pixel-frames`` for the per-pixel renderer, at 1-4 s per frame on llvmpipe), still and
+(per vertex) with the camera moving, each frame finished with WaitForCompletion, after one warm-up frame (shader
+compile and table upload). Multisampling is off everywhere (PyVista's default of 8
 samples triples llvmpipe's frame time).
 """
 import argparse
@@ -29,23 +30,29 @@ from planetviz.render import Scene  # noqa: E402
 from planetviz.render.surface import surface_texture  # noqa: E402
 
 
-def frame_ms(window, frames, camera=None):
+def frame_ms(window, frames, camera=None, plain=None):
     """Median ms per frame; with ``camera``, moved by one part in 1e7 before each frame (a camera in motion:
-    the per-vertex renderer rebuilds its mesh)."""
-    window.Render()
-    window.WaitForCompletion()
-    times = []
+    the per-vertex renderer rebuilds its mesh). With ``plain`` (another window), a frame of it after each frame
+    of ``window``, and the pair of medians: the ratio of the two is then measured over the same seconds."""
+    windows = [window] if plain is None else [window, plain]
+    for w in windows:
+        w.Render()
+        w.WaitForCompletion()
+    times = [[] for _ in windows]
     for i in range(frames):
         if camera is not None:
             camera.SetPosition(*(np.array(camera.GetPosition()) * (1 + 1e-7 * (-1) ** i)))
-        t0 = time.perf_counter()
-        window.Render()
-        window.WaitForCompletion()
-        times.append(1e3 * (time.perf_counter() - t0))
-    return float(np.median(times))
+        for w, t in zip(windows, times):
+            t0 = time.perf_counter()
+            w.Render()
+            w.WaitForCompletion()
+            t.append(1e3 * (time.perf_counter() - t0))
+    medians = [float(np.median(t)) for t in times]
+    return medians[0] if plain is None else medians
 
 
-def plain_sphere_ms(atmosphere, size, frames):
+def plain_sphere(atmosphere, size):
+    """PyVista's textured sphere of the planet seen from the orbit view (4 radii, 30 deg), multisampling off."""
     plotter = pv.Plotter(off_screen=True, window_size=list(size))
     plotter.ren_win.SetMultiSamples(0)
     sphere = pv.Sphere(radius=atmosphere.bottom_radius_m, theta_resolution=192, phi_resolution=96)
@@ -56,9 +63,7 @@ def plain_sphere_ms(atmosphere, size, frames):
     plotter.camera.up = (0.0, 0.0, 1.0)
     plotter.camera.view_angle = 30.0
     plotter.renderer.ResetCameraClippingRange()
-    ms = frame_ms(plotter.ren_win, frames)
-    plotter.close()
-    return ms
+    return plotter
 
 
 def main():
@@ -73,27 +78,36 @@ def main():
              "ground, twilight": lambda s: (s.set_sun(elevation=-3.0, azimuth=90.0, latitude=45.0, longitude=0.0),
                                             s.view_from_ground(latitude=45, heading=90, pitch=5)),
              "1e9 m (a few pixels)": lambda s: s.view_from_space(distance=1e9, fov=30)}
-    print("| size | plain textured sphere | view | per pixel | per vertex | per vertex, camera moving |")
-    print("|---|---|---|---|---|---|")
+    print("| size | view | per pixel | per vertex | per vertex, camera moving | plain textured sphere | "
+          "per vertex / plain | moving / plain |")
+    print("|---|---|---|---|---|---|---|---|")
     for size in args.sizes:
         w, h = (int(v) for v in size.split("x"))
         results = {}
         for shading in ("pixel", "vertex"):
             scene = Scene("earth", quality=args.quality, off_screen=True, window_size=(w, h), shading=shading)
+            plain = plain_sphere(scene.atmosphere, (w, h)) if shading == "vertex" else None
             default_sun = vars(scene.sun).copy()
             for name, set_view in views.items():
                 scene.set_sun(**default_sun)
                 set_view(scene)
                 scene.render()
-                results[name, shading] = frame_ms(scene.ren_win, args.pixel_frames if shading == "pixel"
-                                                  else args.frames)
-                if shading == "vertex":
-                    results[name, "moving"] = frame_ms(scene.ren_win, args.frames, scene.renderer.GetActiveCamera())
-            plain = plain_sphere_ms(scene.atmosphere, (w, h), args.frames) if shading == "vertex" else None
+                if shading == "pixel":
+                    results[name, "pixel"] = frame_ms(scene.ren_win, args.pixel_frames)
+                    continue
+                results[name, "vertex"], still_plain = frame_ms(scene.ren_win, args.frames, plain=plain.ren_win)
+                results[name, "moving"], moving_plain = frame_ms(scene.ren_win, args.frames,
+                                                                 scene.renderer.GetActiveCamera(), plain.ren_win)
+                results[name, "plain"] = (still_plain, moving_plain)
+            if plain is not None:
+                plain.close()
             scene.close()
         for name in views:
-            print(f"| {size} | {plain:.1f} | {name} | {results[name, 'pixel']:.1f} | {results[name, 'vertex']:.1f} | "
-                  f"{results[name, 'moving']:.1f} |", flush=True)
+            still_plain, moving_plain = results[name, "plain"]
+            print(f"| {size} | {name} | {results[name, 'pixel']:.1f} | {results[name, 'vertex']:.1f} | "
+                  f"{results[name, 'moving']:.1f} | {0.5 * (still_plain + moving_plain):.1f} | "
+                  f"{results[name, 'vertex'] / still_plain:.2f} | {results[name, 'moving'] / moving_plain:.2f} |",
+                  flush=True)
 
 
 if __name__ == "__main__":

@@ -1,9 +1,9 @@
-// The per-vertex renderer's fragments (after atmosphere_ray.glsl, display.glsl and pixel.glsl): the inscatter, the
-// sun disc's radiance and the ground's light of atmosphere_vertex.glsl interpolated over the triangle, completed
-// per pixel with what changes faster across the screen: the ray's inscatter_factor (the inscatter is multiplied by
-// the pixel's over the interpolated one), the surface texture's colour at the pixel's ground point and the sun's
-// cosine there (the terminator); no 4D table is read per pixel. Shown through display.glsl (output_mode 0) or
-// written as it is (1: spectral radiance, 2: linear sRGB).
+// The per-vertex renderer's fragments (after atmosphere_ray.glsl, inscatter_factor.glsl, display.glsl and
+// pixel.glsl): the inscatter, the sun disc's radiance and the ground's light of atmosphere_vertex.glsl interpolated
+// over the triangle, completed per pixel with what changes faster across the screen: the ray's inscatter_factor
+// (the inscatter is multiplied by the pixel's over the interpolated one), the surface texture's colour at the
+// pixel's ground point and the sun's cosine there (the terminator); no 4D table is read per pixel. Shown through
+// display.glsl (output_mode 0) or written as it is (1: spectral radiance, 2: linear sRGB).
 //
 // Uniforms: those of the files before it. The constant sky_part (planetviz/render/direction_mesh.py) is true in the
 // part of the mesh whose rays all miss the ground, where the ground's code is left out.
@@ -24,7 +24,7 @@ const float MAX_FACTOR_CORRECTION = 4.0;
 vec4 atmosphere_interpolated() {
     vec3 v = pixel_direction();
     ViewRay ray = view_ray(v);
-    float factor = inscatter_factor(ray, mesh_phase_weights);
+    float factor = inscatter_factor(ray, mesh_phase_weights, !sky_part);
     vec3 value = mesh_inscatter * (mesh_factor > 0.0 ? min(factor / mesh_factor, MAX_FACTOR_CORRECTION) : 1.0);
     bool ground = false;
     if (!sky_part) {

@@ -6,7 +6,7 @@
 // evaluates them at the vertices of a direction mesh (atmosphere_vertex.glsl: the 4D tables, most of the cost, and
 // the ground's light split by the sun's cosine) and completes per pixel (atmosphere_interpolated.glsl) what
 // changes faster across the screen: the surface texture, the sun's cosine at the ground point (the terminator),
-// the disc, inscatter_factor (below); no 4D table is read per pixel there.
+// the disc, inscatter_factor (inscatter_factor.glsl); no 4D table is read per pixel there.
 //
 // Uniforms: those of view.glsl (before it).
 
@@ -90,59 +90,4 @@ vec4 get_sun_transmittance(ViewRay ray, int g) {
     if (!ray.visible) return vec4(1.0);
     if (ray_intersects_ground(ray.a, ray.mu)) return vec4(0.0);
     return get_transmittance_to_top_atmosphere_boundary(ray.a, ray.mu, g);
-}
-
-// The per-vertex renderer's factor of the inscatter, F = path_opacity x twilight_factor x phase_factor: what makes
-// the inscatter change across the screen faster than the direction mesh resolves, computed per pixel from the 2D
-// tables and the phase functions. atmosphere_vertex.glsl passes each vertex's F beside its inscatter, and
-// atmosphere_interpolated.glsl multiplies the interpolated inscatter by F at the pixel over the interpolated F: the
-// interpolation then only has to follow the inscatter's ratio to F, which changes slowly.
-// - path_opacity: the opacity 1 - T of the ray from x to where it leaves the atmosphere or meets the ground
-//   (averaged over the first output group's wavelengths; 0 for a ray that misses the atmosphere): along the limb's
-//   halo, the horizon and the aerial perspective the inscatter grows with the ray's optical depth (the tables' sky
-//   half holds S / (1 - T) for the same reason, table_lookup.glsl ray_opacity);
-// - twilight_factor: E(0, mu_s), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's ground
-//   point, or at its point nearest the planet's centre, held at its value with the sun on the horizon where the sun
-//   is above that point's horizon and at mu_s_min below the tables' range: over the ground's twilight band seen
-//   from space and along the limb over the terminator the inscatter falls with the sun's depression as this
-//   irradiance does (only ratios of F matter, so no normalisation);
-// - phase_factor: the phase functions at nu (the first output group's, averaged over its wavelengths) of a mix w
-//   of the inscatter's parts before their phases (get_inscatter_parts; phase_weights: that group's parts averaged
-//   over its wavelengths, normalised), w interpolated: around the sun a strong forward lobe changes the inscatter
-//   faster than the mesh resolves, while the parts change slowly. Magnitudes |w| keep it positive where the aerial
-//   perspective's parts cancel.
-float path_opacity(ViewRay ray) {
-    if (!ray.visible) return 0.0;
-    int g = first_group();
-    vec4 tau = ray_intersects_ground(ray.a, ray.mu)
-        ? get_optical_depth(ray.a, ray.mu, distance_to_bottom_atmosphere_boundary(ray.a, ray.mu), g)
-        : get_optical_depth_to_top_atmosphere_boundary(ray.a, ray.mu, g);
-    return dot(one_minus_exp(tau), vec4(0.25));
-}
-
-float twilight_factor(ViewRay ray) {
-    if (!ray.visible) return 1.0;
-    vec3 p = ray_intersects_ground(ray.a, ray.mu) ? ground_point(ray)
-                                                  : ray.x + max(-dot(ray.x, ray.v), 0.0) * ray.v;
-    float mu_s = clamp(dot(normalize(p), sun_direction), mu_s_min, 0.0);
-    return dot(get_irradiance(0.0, mu_s, first_group()), vec4(0.25));
-}
-
-vec4 phase_weights(ScatteringParts s) {
-    vec4 w = vec4(dot(s.rayleigh, vec4(0.25)), dot(s.mie, vec4(0.25)), dot(s.multiple, vec4(0.25)),
-                  dot(s.multiple_mie, vec4(0.25)));
-    float total = dot(abs(w), vec4(1.0));
-    return total > 0.0 ? w / total : vec4(0.0, 0.0, 1.0, 0.0);
-}
-
-float phase_factor(vec4 w, float nu) {
-    int g = first_group();
-    vec4 phases = vec4(rayleigh_like_phase(nu),
-                       dot(double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g]), vec4(0.25)), 1.0,
-                       dot(forward_factor(nu, g), vec4(0.25)));
-    return dot(abs(w), phases);
-}
-
-float inscatter_factor(ViewRay ray, vec4 w) {
-    return path_opacity(ray) * twilight_factor(ray) * phase_factor(w, ray.nu);
 }

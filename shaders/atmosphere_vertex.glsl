@@ -1,4 +1,4 @@
-// The table-based renderer per vertex (after atmosphere_ray.glsl): for the direction from the camera to a vertex
+// The table-based renderer per vertex (after atmosphere_ray.glsl and inscatter_factor.glsl): for the direction from the camera to a vertex
 // of the direction mesh around the camera, the inscatter of atmosphere_ray.glsl (the 4D tables), the sun disc's
 // radiance and the light the ground sends toward the camera, summed over the wavelength groups into the three
 // output channels, for atmosphere_interpolated.glsl to interpolate over the triangles and complete per pixel.
@@ -9,8 +9,8 @@
 // the ground, where the ground's light is left out.
 // Outputs (output channels as output_mode says):
 //   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays)
-//   mesh_phase_weights vec4  phase_weights of the inscatter's parts (atmosphere_ray.glsl)
-//   mesh_factor        float the ray's inscatter_factor (atmosphere_ray.glsl)
+//   mesh_phase_weights vec4  phase_weights of the inscatter's parts (inscatter_factor.glsl)
+//   mesh_factor        float the ray's inscatter_factor (inscatter_factor.glsl)
 //   mesh_sun           vec3  the disc's radiance T / sun_solid_angle along this direction
 //   mesh_ground_sky    mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
 //                            unit of component k of the surface colour (surface_colour_or_unit)
@@ -69,6 +69,6 @@ void atmosphere_vertex(vec3 vertex_position) {
         mesh_inscatter += to_channels(max(phased_sum(parts, ray.nu, g), 0.0), g);
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;
     }
-    mesh_factor = inscatter_factor(ray, mesh_phase_weights);
+    mesh_factor = inscatter_factor(ray, mesh_phase_weights, !sky_part);
     ground_light_columns(ray);
 }

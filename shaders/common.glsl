@@ -61,8 +61,10 @@ float rayleigh_like_phase(float nu) {
     return (1.0 + a * nu * nu) / (4.0 * PI * (1.0 + a / 3.0));
 }
 
+// x^1.5 as x sqrt(x): a software renderer evaluates pow as exp2(1.5 log2(x)), several times the cost.
 vec4 henyey_greenstein(float nu, vec4 g) {
-    return (1.0 - g * g) / (4.0 * PI * pow(1.0 + g * g - 2.0 * g * nu, vec4(1.5)));
+    vec4 x = 1.0 + g * g - 2.0 * g * nu;
+    return (1.0 - g * g) / (4.0 * PI * x * sqrt(x));
 }
 
 vec4 double_henyey_greenstein(float nu, vec4 g1, vec4 g2, vec4 alpha) {

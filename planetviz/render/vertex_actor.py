@@ -12,10 +12,73 @@ from __future__ import annotations
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
+from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, path_opacity_altitude,
+                                       path_opacity_table, phase_factor_table, twilight_irradiance)
 from .atmosphere_actor import TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
+from .textures import pack_2d, pad_groups, upload
 from .uniforms import draw_uniforms
+
+
+class InscatterFactorTextures:
+    """The textures of shaders/inscatter_factor.glsl (planetviz/tables/inscatter_factor.py):
+    ``phase_twilight_texture``, made once, and ``path_opacity_texture``, the opacity of every view ray from the
+    frame's ray altitude, made on the CPU (about 1 ms) and uploaded again when that altitude changes (never while
+    the camera stays above the atmosphere, where the rays start at its top)."""
+
+    def __init__(self, atmosphere, tables):
+        self.atmosphere, self.tables = atmosphere, tables
+        self.altitude = 0.0
+        self.first_row, self.twilight = twilight_irradiance(tables)
+        self._phase_twilight = self._opacity = self._opacity_altitude = None
+
+    def uniforms(self):
+        return {"path_opacity_texels": ("f", PATH_OPACITY_TEXELS), "phase_factor_texels": ("f", PHASE_FACTOR_TEXELS),
+                "phase_twilight_rows": ("2f", (self.first_row, len(self.twilight)))}
+
+    def set_camera_altitude(self, camera_altitude):
+        """Follow the camera's altitude [m] (the uniform ``camera_altitude``)."""
+        self.altitude = path_opacity_altitude(camera_altitude, self.tables.bottom, self.tables.top)
+
+    def bind(self, program, render_window):
+        """Upload what is missing or stale, activate the textures and point the samplers at them."""
+        if self._phase_twilight is None:
+            self._phase_twilight = upload(render_window, phase_twilight_image(self.atmosphere, self.twilight))
+        if self._opacity_altitude != self.altitude:
+            if self._opacity is not None:
+                self._opacity.ReleaseGraphicsResources(render_window)
+            table = path_opacity_table(self.tables, self.altitude, PATH_OPACITY_TEXELS)
+            self._opacity = upload(render_window, pack_2d(table[None]))
+            self._opacity_altitude = self.altitude
+        for name, tex in (("phase_twilight_texture", self._phase_twilight), ("path_opacity_texture", self._opacity)):
+            tex.Activate()
+            program.SetUniformi(name, tex.GetTextureUnit())
+
+    def deactivate(self):
+        for tex in (self._phase_twilight, self._opacity):
+            if tex is not None:
+                tex.Deactivate()
+
+    def release(self, render_window):
+        for tex in (self._phase_twilight, self._opacity):
+            if tex is not None:
+                tex.ReleaseGraphicsResources(render_window)
+        self._phase_twilight = self._opacity = self._opacity_altitude = None
+
+
+def group_means(values):
+    """(..., W) -> (..., G): the mean over each group's wavelengths (the padding of the last group left out)."""
+    return np.nanmean(pad_groups(values, fill=np.nan), axis=-1)
+
+
+def phase_twilight_image(atmosphere, twilight):
+    """``phase_twilight_texture``, (G n_rows, n, 4): per group, the twilight irradiance ``twilight`` (n_rows, W)
+    times the phases of :func:`phase_factor_table` (n, W, 4), each averaged over the group's wavelengths."""
+    phases = group_means(np.moveaxis(phase_factor_table(atmosphere, PHASE_FACTOR_TEXELS), 1, -1))   # (n, 4, G)
+    irradiance = group_means(twilight)                                                              # (rows, G)
+    image = irradiance.T[:, :, None, None] * np.moveaxis(phases, -1, 0)[:, None]                   # (G, rows, n, 4)
+    return np.ascontiguousarray(image.reshape(-1, *image.shape[2:]), dtype=np.float32)
 
 
 class VertexAtmosphereActor(DirectionMeshActor):
@@ -25,22 +88,33 @@ class VertexAtmosphereActor(DirectionMeshActor):
     def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, half_float_tables=False):
         self.tables = tables
         self.textures = TableTextures(atmosphere, tables, surface, half_float_tables)
-        shaders = self.textures.shaders
+        self.factor_textures = InscatterFactorTextures(atmosphere, tables)
+        shaders = (*self.textures.shaders, "inscatter_factor.glsl")
         super().__init__(atmosphere, renderer, shader_code(*shaders, "atmosphere_vertex.glsl"), "atmosphere_vertex",
                          shader_code(*shaders, "display.glsl", "pixel.glsl", "atmosphere_interpolated.glsl"),
                          "atmosphere_interpolated", split_at_limb=True, settings=settings)
-        self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.textures.deactivate()))
+        self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self._deactivate()))
 
     def static_uniforms(self):
-        return self.textures.static_uniforms()
+        return {**self.textures.static_uniforms(), **self.factor_textures.uniforms()}
 
     def bind(self, program):
-        self.textures.bind(program, self.renderer.GetRenderWindow())
+        window = self.renderer.GetRenderWindow()
+        self.textures.bind(program, window)
+        self.factor_textures.bind(program, window)
+
+    def _deactivate(self):
+        self.textures.deactivate()
+        self.factor_textures.deactivate()
 
     def frame_uniforms(self, view):
-        return draw_uniforms(view, np.asarray(self.sun_direction), self.settings, self.atmosphere)
+        uniforms = draw_uniforms(view, np.asarray(self.sun_direction), self.settings, self.atmosphere)
+        self.factor_textures.set_camera_altitude(uniforms["camera_altitude"][1])
+        return uniforms
 
     def release(self):
         """Stop following the renderer and free the GPU textures (call before the window closes)."""
         super().release()
-        self.textures.release(self.renderer.GetRenderWindow())
+        window = self.renderer.GetRenderWindow()
+        self.textures.release(window)
+        self.factor_textures.release(window)

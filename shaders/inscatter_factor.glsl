@@ -1,0 +1,100 @@
+// The per-vertex renderer's factor of the inscatter (after atmosphere_ray.glsl), F = path opacity x twilight x phase: what makes the inscatter change across the screen faster than the direction mesh resolves,
+// computed per pixel from small tables and the phase functions. atmosphere_vertex.glsl passes each vertex's F beside
+// its inscatter, and atmosphere_interpolated.glsl multiplies the interpolated inscatter by F at the pixel over the
+// interpolated F: the interpolation then only has to follow the inscatter's ratio to F, which changes slowly.
+// - path_opacity: the opacity 1 - T of the ray from x to where it leaves the atmosphere or meets the ground
+//   (averaged over the first output group's wavelengths; 0 for a ray that misses the atmosphere): along the limb's
+//   halo, the horizon and the aerial perspective the inscatter grows with the ray's optical depth (the tables' sky
+//   half holds S / (1 - T) for the same reason, table_lookup.glsl ray_opacity). Every ray of the frame starts at
+//   the same altitude, so it is read from a 1D table of mu made for that altitude on the CPU
+//   (planetviz/tables/inscatter_factor.py): one fetch instead of the 2D optical-depth table's two for a ground ray;
+// - twilight: E(0, mu_s), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's ground point,
+//   or at its point nearest the planet's centre, held at its value with the sun on the horizon where the sun is
+//   above that point's horizon and at mu_s_min below the tables' range: over the ground's twilight band seen from
+//   space and along the limb over the terminator the inscatter falls with the sun's depression as this irradiance
+//   does (only ratios of F matter, so no normalisation);
+// - phase: the phase functions at nu of a mix w of the inscatter's parts before their phases
+//   (get_inscatter_parts; phase_weights: the first output group's parts averaged over its wavelengths,
+//   normalised), w interpolated: around the sun a strong forward lobe changes the inscatter faster than the mesh
+//   resolves, while the parts change slowly. Magnitudes |w| keep it positive where the aerial perspective's parts
+//   cancel.
+// The twilight and the phases come in one fetch of a table of their products (phase_twilight_factor).
+// may_meet_ground: false where no ray can meet the ground (the mesh's sky part), which leaves the ground's code out
+// (a software renderer runs both sides of a branch).
+//
+// Uniforms:
+//   path_opacity_texture   sampler2D  path_opacity_table (planetviz/tables/inscatter_factor.py) at the frame's ray
+//                                     altitude: 2 path_opacity_texels wide (the rays to the ground, then the
+//                                     others), the G groups stacked along y
+//   path_opacity_texels    float      texels of each half of path_opacity_texture
+//   phase_twilight_texture sampler2D  per group (stacked along y) the outer product of the phases of the inscatter's
+//                                     four parts along x (phase_factor_table, at phase_factor_u) and the sky's
+//                                     irradiance on the ground in twilight along y (twilight_irradiance, the
+//                                     irradiance table's texels phase_twilight_rows.x onward), each averaged over
+//                                     the group's wavelengths (planetviz/tables/inscatter_factor.py)
+//   phase_factor_texels    float      texels of phase_twilight_texture along x
+//   phase_twilight_rows    vec2       (first texel of the irradiance table's mu_s axis, rows) of each group's block
+
+uniform sampler2D path_opacity_texture;
+uniform float path_opacity_texels;
+uniform sampler2D phase_twilight_texture;
+uniform float phase_factor_texels;
+uniform vec2 phase_twilight_rows;
+
+// The coordinate of path_opacity_texture of the ray (a, mu) (inscatter_factor.py's path_opacity_u): each half
+// uniform in the ray's length, to the ground or to the top.
+float path_opacity_u(float a, float mu, bool intersects_ground) {
+    float rho = rho_of(a);
+    float x;
+    if (intersects_ground) {
+        float d = distance_to_bottom_atmosphere_boundary(a, mu);
+        x = rho > a ? (d - a) / (rho - a) : 0.0;
+    } else {
+        float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
+        float d_min = (top_radius - bottom_radius) - a;
+        x = (distance_to_top_atmosphere_boundary(a, mu) - d_min) / (rho + h - d_min);
+    }
+    float half_u = 0.5 * texcoord_from_unit_range(clamp(x, 0.0, 1.0), path_opacity_texels);
+    return intersects_ground ? 0.5 - half_u : 0.5 + half_u;
+}
+
+float path_opacity(ViewRay ray, bool may_meet_ground) {
+    bool ground = may_meet_ground && ray_intersects_ground(ray.a, ray.mu);
+    vec2 uv = vec2(path_opacity_u(ray.a, ray.mu, ground), 0.5);
+    return dot(texture_group(path_opacity_texture, uv, first_group()), vec4(0.25));
+}
+
+vec4 phase_weights(ScatteringParts s) {
+    vec4 w = vec4(dot(s.rayleigh, vec4(0.25)), dot(s.mie, vec4(0.25)), dot(s.multiple, vec4(0.25)),
+                  dot(s.multiple_mie, vec4(0.25)));
+    float total = dot(abs(w), vec4(1.0));
+    return total > 0.0 ? w / total : vec4(0.0, 0.0, 1.0, 0.0);
+}
+
+// The x coordinate of phase_twilight_texture of the view-sun cosine nu (inscatter_factor.py's phase_factor_u):
+// sin(theta / 2) / sqrt(2) toward the sun, 1 - cos(theta / 2) / sqrt(2) away from it.
+float phase_factor_u(float nu) {
+    float t = sqrt(clamp(0.5 - 0.5 * abs(nu), 0.0, 0.5)) * 0.70710678;
+    return texcoord_from_unit_range(nu >= 0.0 ? t : 1.0 - t, phase_factor_texels);
+}
+
+// The y coordinate in a group's block of phase_twilight_texture of the sun's cosine mu_s in [mu_s_min, 0]: the
+// irradiance table's texel coordinate (irradiance_uv_from_r_mu_s) less the block's first texel.
+float twilight_v(float mu_s) {
+    float texel = texcoord_from_unit_range(mu_s * 0.5 + 0.5, irradiance_size.x) * irradiance_size.x - 0.5;
+    return (texel - phase_twilight_rows.x + 0.5) / phase_twilight_rows.y;
+}
+
+// The twilight times the phases of the mix w, for the ray.
+float phase_twilight_factor(ViewRay ray, vec4 w, bool may_meet_ground) {
+    vec3 p = ray.x + max(-dot(ray.x, ray.v), 0.0) * ray.v;
+    if (may_meet_ground && ray_intersects_ground(ray.a, ray.mu)) p = ground_point(ray);
+    float mu_s = clamp(dot(normalize(p), sun_direction), mu_s_min, 0.0);
+    vec2 uv = vec2(phase_factor_u(ray.nu), twilight_v(mu_s));
+    return dot(abs(w), texture_group(phase_twilight_texture, uv, first_group()));
+}
+
+float inscatter_factor(ViewRay ray, vec4 w, bool may_meet_ground) {
+    if (!ray.visible) return 0.0;
+    return path_opacity(ray, may_meet_ground) * phase_twilight_factor(ray, w, may_meet_ground);
+}

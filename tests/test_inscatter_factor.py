@@ -1,0 +1,128 @@
+"""The small tables of the per-vertex renderer's inscatter factor (planetviz/tables/inscatter_factor.py, read by
+shaders/inscatter_factor.glsl): read as the GPU reads them (linear interpolation between texel centres), each
+against the function it tabulates, computed directly.
+
+The factor multiplies every pixel of the per-vertex picture, whose target is 1% RMS from the per-pixel picture
+(docs/rendering.md); the tables are bounded at 0.3%, a third of that. A wrong mapping between a ray and its texel
+reads another ray's value: tens of percent near the horizon or the sun."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from conftest import draft_earth_tables
+from planetviz import load_atmosphere
+from planetviz.model.optics.phase import double_henyey_greenstein
+from planetviz.reference.optical_depth import optical_depth
+from planetviz.tables import QUALITY, precompute
+from planetviz.tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, path_opacity_altitude,
+                                               path_opacity_rays, path_opacity_table, path_opacity_u, phase_factor_table,
+                                               phase_factor_u)
+from planetviz.tables.lookup import get_optical_depth, get_optical_depth_to_top_atmosphere_boundary, one_minus_exp
+from planetviz.tables.multiple import forward_factor
+from planetviz.tables.parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
+from planetviz.validation.random_suite import random_atmosphere
+
+TOLERANCE = 3e-3
+
+
+def read_linear(table, u):
+    """``table`` (n, ...) read at coordinates u in [0, 1] with linear filtering between texel centres, clamped."""
+    x = np.asarray(u) * len(table) - 0.5
+    i = np.clip(np.floor(x).astype(int), 0, len(table) - 2)
+    f = np.clip(x - i, 0.0, 1.0).reshape(x.shape + (1,) * (table.ndim - 1))
+    return table[i] * (1.0 - f) + table[i + 1] * f
+
+
+def direct_opacity(t, a, mu):
+    """1 - T of the rays (a, mu) to the ground or the top from the 2D optical-depth table (what the shaders read
+    before this table), and whether each meets the ground."""
+    r = np.full(mu.shape, t.bottom + a)
+    ground = ray_intersects_ground(r, mu, t.bottom)
+    d = distance_to_bottom_atmosphere_boundary(r, mu, t.bottom)
+    tau = np.where(ground[:, None], get_optical_depth(t, r, mu, d),
+                   get_optical_depth_to_top_atmosphere_boundary(t, r, np.where(ground, 0.0, mu)))
+    return one_minus_exp(tau), ground
+
+
+def integrated_opacity(atm, a, mu, ground):
+    """1 - T of the same rays by the reference's quadrature of the extinction along them (relative error of tau
+    1e-9 to 3.5e-5, planetviz/reference/optical_depth.py)."""
+    r = atm.bottom_radius_m + a
+    origin = np.broadcast_to([0.0, 0.0, r], mu.shape + (3,))
+    direction = np.stack([np.sqrt(1.0 - mu * mu), np.zeros_like(mu), mu], axis=-1)
+    length = np.where(ground, distance_to_bottom_atmosphere_boundary(r, mu, atm.bottom_radius_m), np.inf)
+    return one_minus_exp(optical_depth(atm, origin, direction, length, panels=16))
+
+
+def opacity_tables():
+    atm = load_atmosphere("earth")
+    yield "earth", atm, draft_earth_tables()
+    for seed in (3, 100_004):        # one atmosphere of each split of the random suite
+        atm = random_atmosphere(seed)
+        yield f"random-{seed}", atm, precompute(atm, QUALITY["draft"], multiple=False)
+
+
+@pytest.mark.parametrize("fraction", [0.0, 1e-4, 0.02, 0.3, 0.999, 1.0, 3.0])
+def test_the_path_opacity_table_reads_as_the_opacity_of_each_ray(fraction):
+    # From the ground, 1e-4 of the thickness (6 m for the Earth), 2%, 30%, just under the top, at the top and from
+    # space (the rays start at the top), over every mu, with 4000 more next to the horizon where it changes
+    # fastest. At its texel centres the table holds the 2D table's readings (path_opacity_u is the inverse of
+    # path_opacity_rays); between them it interpolates, which against the quadrature of the extinction along each
+    # ray can be off by no more than the readings at the two neighbouring centres are, plus the interpolation's own
+    # error (TOLERANCE). The 2D table's readings themselves are off by up to 2.5x for rays metres long from metres
+    # up (get_optical_depth's docstring), which the table inherits but does not add to.
+    for name, atm, t in opacity_tables():
+        a = path_opacity_altitude(fraction * (t.top - t.bottom), t.bottom, t.top)
+        table = path_opacity_table(t, a)
+        n = PATH_OPACITY_TEXELS
+        assert table.shape == (2 * n, t.optical_depth.shape[-1])
+        centre_mu, _, centre_ground = path_opacity_rays(a, t.bottom, t.top)
+        u = path_opacity_u(a, centre_mu, centre_ground, t.bottom, t.top)
+        # (from the ground itself, a = 0, every ray down has length 0: the ground half is one value; the ray
+        # tangent to the ground, texel 0, has a length ill-conditioned in mu: 1/50 of a texel)
+        half = slice(n if a == 0 else 0, 2 * n)
+        np.testing.assert_allclose((u * 2 * n - 0.5)[half], np.arange(2 * n)[half], atol=0.02)
+        centre_error = np.abs(table - integrated_opacity(atm, a, centre_mu, centre_ground))
+
+        horizon = -np.sqrt(a * (a + 2 * t.bottom)) / (t.bottom + a)
+        mu = np.clip(np.concatenate([np.linspace(-1, 1, 4001), horizon + np.linspace(-0.02, 0.02, 4001)]), -1, 1)
+        _, ground = direct_opacity(t, a, mu)
+        truth = integrated_opacity(atm, a, mu, ground)
+        u = path_opacity_u(a, mu, ground, t.bottom, t.top)
+        got = read_linear(table, u)
+        i = np.clip(np.floor(u * 2 * n - 0.5).astype(int), 0, 2 * n - 2)
+        bound = np.maximum(centre_error[i], centre_error[i + 1]) + TOLERANCE * truth
+        worst = np.argmax(np.abs(got - truth) - bound) // truth.shape[1]
+        assert np.all(np.abs(got - truth) <= bound), (name, a, mu[worst], got[worst], truth[worst], bound[worst])
+
+
+def test_the_halves_of_the_path_opacity_table_meet_at_the_horizon():
+    # Rays just below the horizon read the ground half, just above it the sky half: u falls on either side of 1/2,
+    # and the two readings differ (a ray to the ground against one that grazes it and goes on).
+    t = draft_earth_tables()
+    a = 1e4
+    horizon = -np.sqrt(a * (a + 2 * t.bottom)) / (t.bottom + a)
+    mu = np.array([horizon - 1e-6, horizon + 1e-6])
+    r = np.full(2, t.bottom + a)
+    ground = ray_intersects_ground(r, mu, t.bottom)
+    assert ground.tolist() == [True, False]
+    u = path_opacity_u(a, mu, ground, t.bottom, t.top)
+    assert u[0] < 0.5 < u[1]
+    table = path_opacity_table(t, a)
+    assert not np.allclose(read_linear(table, u)[0], read_linear(table, u)[1], rtol=0.1)
+
+
+@pytest.mark.parametrize("g1, g2, alpha", [(0.95, 0.0, 1.0), (0.2, 0.95, 0.1), (-0.95, 0.6, 0.5), (0.0, 0.0, 1.0),
+                                           (0.86, -0.71, 0.95)])
+def test_the_phase_table_reads_as_the_phase_functions(g1, g2, alpha):
+    # The format's strongest lobes (|g| up to 0.95) in either component, backward, isotropic, Mars's dust.
+    atm = SimpleNamespace(mie=SimpleNamespace(g1=np.array([g1]), g2=np.array([g2]), alpha=np.array([alpha])))
+    table = phase_factor_table(atm)
+    assert table.shape == (PHASE_FACTOR_TEXELS, 1, 2)
+    nu = np.cos(np.linspace(0.0, np.pi, 100001))
+    got = read_linear(table, phase_factor_u(nu))
+    want = np.stack([double_henyey_greenstein(nu[:, None], atm.mie.g1, atm.mie.g2, atm.mie.alpha),
+                     forward_factor(atm, nu)], axis=-1)
+    err = np.abs(got / want - 1.0)
+    assert err.max() < TOLERANCE, err.max()
