@@ -11,27 +11,34 @@
 in vec3 mesh_inscatter;
 in vec4 mesh_phase_weights;
 in float mesh_factor;
+in vec2 mesh_ground_factors;
 in vec3 mesh_sun;
 in mat3 mesh_ground_sky;
 in mat3 mesh_ground_sun;
 
-// The largest correction of the interpolated inscatter by inscatter_factor (the pixel's over the interpolated one).
-// Where the mesh does not resolve the atmosphere at all (a halo thinner than the sagitta of the sectors' chords, a
-// thin atmosphere seen from far) a pixel's factor can exceed its vertices' by orders of magnitude while their
-// inscatter does not follow; the correction is then a guess, and bounded.
+// The largest correction of an interpolated value by a factor of ray_factors (the pixel's over the interpolated
+// one). Where the mesh does not resolve the atmosphere at all (a halo thinner than the sagitta of the sectors'
+// chords, a thin atmosphere seen from far) a pixel's factor can exceed its vertices' by orders of magnitude while
+// their inscatter does not follow; the correction is then a guess, and bounded.
 const float MAX_FACTOR_CORRECTION = 4.0;
+
+float correction(float pixel, float interpolated) {
+    return interpolated > 0.0 ? min(pixel / interpolated, MAX_FACTOR_CORRECTION) : 1.0;
+}
 
 vec4 atmosphere_interpolated() {
     vec3 v = pixel_direction();
     ViewRay ray = view_ray(v);
-    float factor = inscatter_factor(ray, mesh_phase_weights, !sky_part);
-    vec3 value = mesh_inscatter * (mesh_factor > 0.0 ? min(factor / mesh_factor, MAX_FACTOR_CORRECTION) : 1.0);
+    RayFactors f = ray_factors(ray, mesh_phase_weights, !sky_part);
+    vec3 value = mesh_inscatter * correction(f.inscatter, mesh_factor);
     bool ground = false;
     if (!sky_part) {
         ground = ray_hits_ground(ray);
         if (ground) {
             vec3 n = normalize(ground_point(ray));
-            value += (mesh_ground_sky + max(dot(n, sun_direction), 0.0) * mesh_ground_sun) * surface_colour_or_unit(n);
+            mat3 light = mesh_ground_sky * correction(f.irradiance, mesh_ground_factors.y)
+                + max(dot(n, sun_direction), 0.0) * mesh_ground_sun;
+            value += light * surface_colour_or_unit(n) * correction(f.transmittance, mesh_ground_factors.x);
         }
     }
     if (!ground && in_sun_disc(v)) value += mesh_sun;

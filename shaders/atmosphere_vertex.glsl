@@ -1,7 +1,8 @@
-// The table-based renderer per vertex (after atmosphere_ray.glsl and inscatter_factor.glsl): for the direction from the camera to a vertex
-// of the direction mesh around the camera, the inscatter of atmosphere_ray.glsl (the 4D tables), the sun disc's
-// radiance and the light the ground sends toward the camera, summed over the wavelength groups into the three
-// output channels, for atmosphere_interpolated.glsl to interpolate over the triangles and complete per pixel.
+// The table-based renderer per vertex (after atmosphere_ray.glsl and inscatter_factor.glsl): for the direction
+// from the camera to a vertex of the direction mesh around the camera, the inscatter of atmosphere_ray.glsl (the 4D
+// tables), the sun disc's radiance and the light the ground sends toward the camera, summed over the wavelength
+// groups into the three output channels, for atmosphere_interpolated.glsl to interpolate over the triangles and
+// complete per pixel.
 //
 // Uniforms: those of the files before it, and
 //   sun_solid_angle        float  solid angle of the sun's disc [sr]
@@ -10,7 +11,8 @@
 // Outputs (output channels as output_mode says):
 //   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays)
 //   mesh_phase_weights vec4  phase_weights of the inscatter's parts (inscatter_factor.glsl)
-//   mesh_factor        float the ray's inscatter_factor (inscatter_factor.glsl)
+//   mesh_factor        float the ray's inscatter factor (inscatter_factor.glsl ray_factors)
+//   mesh_ground_factors vec2 the transmittance and the sky irradiance of ray_factors for the ground's light
 //   mesh_sun           vec3  the disc's radiance T / sun_solid_angle along this direction
 //   mesh_ground_sky    mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
 //                            unit of component k of the surface colour (surface_colour_or_unit)
@@ -24,6 +26,7 @@ uniform float sun_solid_angle;
 out vec3 mesh_inscatter;
 out vec4 mesh_phase_weights;
 out float mesh_factor;
+out vec2 mesh_ground_factors;
 out vec3 mesh_sun;
 out mat3 mesh_ground_sky;
 out mat3 mesh_ground_sun;
@@ -43,8 +46,11 @@ ViewRay ground_or_grazing(ViewRay ray) {
 void ground_light_columns(ViewRay ray) {
     mesh_ground_sky = mat3(0.0);
     mesh_ground_sun = mat3(0.0);
+    mesh_ground_factors = vec2(1.0);
     if (sky_part) return;
     ViewRay grazing = ground_or_grazing(ray);
+    RayFactors f = ray_factors(grazing, mesh_phase_weights, true);
+    mesh_ground_factors = vec2(f.transmittance, f.irradiance);
     GroundHit h = ground_hit(grazing);
     for (int g = first_group(); g <= last_group(); ++g) {
         vec4 t = get_transmittance(grazing.a, grazing.mu, h.d, g) / PI;
@@ -69,6 +75,6 @@ void atmosphere_vertex(vec3 vertex_position) {
         mesh_inscatter += to_channels(max(phased_sum(parts, ray.nu, g), 0.0), g);
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;
     }
-    mesh_factor = inscatter_factor(ray, mesh_phase_weights, !sky_part);
+    mesh_factor = ray_factors(ray, mesh_phase_weights, !sky_part).inscatter;
     ground_light_columns(ray);
 }

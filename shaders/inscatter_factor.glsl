@@ -1,45 +1,47 @@
-// The per-vertex renderer's factor of the inscatter (after atmosphere_ray.glsl), F = path opacity x twilight x phase: what makes the inscatter change across the screen faster than the direction mesh resolves,
-// computed per pixel from small tables and the phase functions. atmosphere_vertex.glsl passes each vertex's F beside
-// its inscatter, and atmosphere_interpolated.glsl multiplies the interpolated inscatter by F at the pixel over the
-// interpolated F: the interpolation then only has to follow the inscatter's ratio to F, which changes slowly.
-// - path_opacity: the opacity 1 - T of the ray from x to where it leaves the atmosphere or meets the ground
-//   (averaged over the first output group's wavelengths; 0 for a ray that misses the atmosphere): along the limb's
-//   halo, the horizon and the aerial perspective the inscatter grows with the ray's optical depth (the tables' sky
-//   half holds S / (1 - T) for the same reason, table_lookup.glsl ray_opacity). Every ray of the frame starts at
-//   the same altitude, so it is read from a 1D table of mu made for that altitude on the CPU
-//   (planetviz/tables/inscatter_factor.py): one fetch instead of the 2D optical-depth table's two for a ground ray;
-// - twilight: E(0, mu_s), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's ground point,
-//   or at its point nearest the planet's centre, held at its value with the sun on the horizon where the sun is
-//   above that point's horizon and at mu_s_min below the tables' range: over the ground's twilight band seen from
-//   space and along the limb over the terminator the inscatter falls with the sun's depression as this irradiance
-//   does (only ratios of F matter, so no normalisation);
+// What the per-vertex renderer reads per pixel (after atmosphere_ray.glsl), from small tables: the factor of the
+// inscatter F = path opacity x sky irradiance x phase, what makes the inscatter change across the screen faster
+// than the direction mesh resolves, and the factors of the ground's light (ray_factors). atmosphere_vertex.glsl
+// passes each vertex's F beside its inscatter, and atmosphere_interpolated.glsl multiplies the interpolated
+// inscatter by F at the pixel over the interpolated F: the interpolation then only has to follow the inscatter's
+// ratio to F, which changes slowly.
+// - path opacity: 1 - T of the ray from x to where it leaves the atmosphere or meets the ground (averaged over the
+//   first output group's wavelengths): along the limb's halo, the horizon and the aerial perspective the inscatter
+//   grows with the ray's optical depth (the tables' sky half holds S / (1 - T) for the same reason, table_lookup.glsl
+//   ray_opacity). Every ray of the frame starts at the same altitude, so it is read from a 1D table of mu made for
+//   that altitude on the CPU (planetviz/tables/inscatter_factor.py): one fetch instead of the 2D optical-depth
+//   table's two for a ground ray;
+// - sky irradiance: E(0, mu_s), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's ground
+//   point, or at its point nearest the planet's centre (held at mu_s_min below the tables' range): over the
+//   ground's twilight band seen from space and along the limb over the terminator the inscatter falls with the
+//   sun's depression as this irradiance does, and the ground's light from the sky is this irradiance (only ratios
+//   of F matter, so no normalisation);
 // - phase: the phase functions at nu of a mix w of the inscatter's parts before their phases
 //   (get_inscatter_parts; phase_weights: the first output group's parts averaged over its wavelengths,
 //   normalised), w interpolated: around the sun a strong forward lobe changes the inscatter faster than the mesh
 //   resolves, while the parts change slowly. Magnitudes |w| keep it positive where the aerial perspective's parts
 //   cancel.
-// The twilight and the phases come in one fetch of a table of their products (phase_twilight_factor).
+// The sky irradiance and the phases come in one fetch of a table of their products (phase_irradiance).
 // may_meet_ground: false where no ray can meet the ground (the mesh's sky part), which leaves the ground's code out
 // (a software renderer runs both sides of a branch).
 //
 // Uniforms:
-//   path_opacity_texture   sampler2D  path_opacity_table (planetviz/tables/inscatter_factor.py) at the frame's ray
-//                                     altitude: 2 path_opacity_texels wide (the rays to the ground, then the
-//                                     others), the G groups stacked along y
-//   path_opacity_texels    float      texels of each half of path_opacity_texture
-//   phase_twilight_texture sampler2D  per group (stacked along y) the outer product of the phases of the inscatter's
-//                                     four parts along x (phase_factor_table, at phase_factor_u) and the sky's
-//                                     irradiance on the ground in twilight along y (twilight_irradiance, the
-//                                     irradiance table's texels phase_twilight_rows.x onward), each averaged over
-//                                     the group's wavelengths (planetviz/tables/inscatter_factor.py)
-//   phase_factor_texels    float      texels of phase_twilight_texture along x
-//   phase_twilight_rows    vec2       (first texel of the irradiance table's mu_s axis, rows) of each group's block
+//   path_opacity_texture     sampler2D  path_opacity_table (planetviz/tables/inscatter_factor.py) at the frame's
+//                                       ray altitude: 2 path_opacity_texels wide (the rays to the ground, then the
+//                                       others), the G groups stacked along y
+//   path_opacity_texels      float      texels of each half of path_opacity_texture
+//   phase_irradiance_texture sampler2D  per group (blocks stacked along y) the outer product of the phases of the
+//                                       inscatter's four parts along x (phase_factor_table, at phase_factor_u) and
+//                                       the sky's irradiance on the ground along y (ground_sky_irradiance: the
+//                                       irradiance table's texels from phase_irradiance_rows.x on), each averaged
+//                                       over the group's wavelengths (planetviz/tables/inscatter_factor.py)
+//   phase_factor_texels      float      texels of phase_irradiance_texture along x
+//   phase_irradiance_rows    vec2       (first texel of the irradiance table's mu_s axis, rows) of a group's block
 
 uniform sampler2D path_opacity_texture;
 uniform float path_opacity_texels;
-uniform sampler2D phase_twilight_texture;
+uniform sampler2D phase_irradiance_texture;
 uniform float phase_factor_texels;
-uniform vec2 phase_twilight_rows;
+uniform vec2 phase_irradiance_rows;
 
 // The coordinate of path_opacity_texture of the ray (a, mu) (inscatter_factor.py's path_opacity_u): each half
 // uniform in the ray's length, to the ground or to the top.
@@ -71,30 +73,40 @@ vec4 phase_weights(ScatteringParts s) {
     return total > 0.0 ? w / total : vec4(0.0, 0.0, 1.0, 0.0);
 }
 
-// The x coordinate of phase_twilight_texture of the view-sun cosine nu (inscatter_factor.py's phase_factor_u):
+// The x coordinate of phase_irradiance_texture of the view-sun cosine nu (inscatter_factor.py's phase_factor_u):
 // sin(theta / 2) / sqrt(2) toward the sun, 1 - cos(theta / 2) / sqrt(2) away from it.
 float phase_factor_u(float nu) {
     float t = sqrt(clamp(0.5 - 0.5 * abs(nu), 0.0, 0.5)) * 0.70710678;
     return texcoord_from_unit_range(nu >= 0.0 ? t : 1.0 - t, phase_factor_texels);
 }
 
-// The y coordinate in a group's block of phase_twilight_texture of the sun's cosine mu_s in [mu_s_min, 0]: the
+// The y coordinate in a group's block of phase_irradiance_texture of the sun's cosine mu_s >= mu_s_min: the
 // irradiance table's texel coordinate (irradiance_uv_from_r_mu_s) less the block's first texel.
-float twilight_v(float mu_s) {
+float irradiance_v(float mu_s) {
     float texel = texcoord_from_unit_range(mu_s * 0.5 + 0.5, irradiance_size.x) * irradiance_size.x - 0.5;
-    return (texel - phase_twilight_rows.x + 0.5) / phase_twilight_rows.y;
+    return (texel - phase_irradiance_rows.x + 0.5) / phase_irradiance_rows.y;
 }
 
-// The twilight times the phases of the mix w, for the ray.
-float phase_twilight_factor(ViewRay ray, vec4 w, bool may_meet_ground) {
+// The texel of phase_irradiance_texture for the ray: its view-sun angle, and the sun's cosine at its ground point or
+// its point nearest the planet's centre.
+vec4 phase_irradiance(ViewRay ray, bool may_meet_ground) {
     vec3 p = ray.x + max(-dot(ray.x, ray.v), 0.0) * ray.v;
     if (may_meet_ground && ray_intersects_ground(ray.a, ray.mu)) p = ground_point(ray);
-    float mu_s = clamp(dot(normalize(p), sun_direction), mu_s_min, 0.0);
-    vec2 uv = vec2(phase_factor_u(ray.nu), twilight_v(mu_s));
-    return dot(abs(w), texture_group(phase_twilight_texture, uv, first_group()));
+    float mu_s = max(dot(normalize(p), sun_direction), mu_s_min);
+    vec2 uv = vec2(phase_factor_u(ray.nu), irradiance_v(mu_s));
+    return texture_group(phase_irradiance_texture, uv, first_group());
 }
 
-float inscatter_factor(ViewRay ray, vec4 w, bool may_meet_ground) {
-    if (!ray.visible) return 0.0;
-    return path_opacity(ray, may_meet_ground) * phase_twilight_factor(ray, w, may_meet_ground);
+// What the per-vertex renderer reads per pixel for the ray (w: the interpolated phase_weights): the inscatter's
+// factor F; and for the ground's light, which the vertices pass on as matrices, the ray's transmittance T (1 - its
+// path opacity) and the sky's irradiance E at its ground point (the texel's third component, whose phase is 1), by
+// which the pixel corrects them as it corrects the inscatter by F: along the limb T changes, across the terminator
+// E changes, faster than the mesh resolves.
+struct RayFactors { float inscatter; float transmittance; float irradiance; };
+
+RayFactors ray_factors(ViewRay ray, vec4 w, bool may_meet_ground) {
+    if (!ray.visible) return RayFactors(0.0, 1.0, 1.0);
+    float opacity = path_opacity(ray, may_meet_ground);
+    vec4 phases = phase_irradiance(ray, may_meet_ground);
+    return RayFactors(opacity * dot(abs(w), phases), 1.0 - opacity, phases.z);
 }

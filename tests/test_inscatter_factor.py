@@ -5,14 +5,13 @@ against the function it tabulates, computed directly.
 The factor multiplies every pixel of the per-vertex picture, whose target is 1% RMS from the per-pixel picture
 (docs/rendering.md); the tables are bounded at 0.3%, a third of that. A wrong mapping between a ray and its texel
 reads another ray's value: tens of percent near the horizon or the sun."""
-from types import SimpleNamespace
+import dataclasses
 
 import numpy as np
 import pytest
 
 from conftest import draft_earth_tables
 from planetviz import load_atmosphere
-from planetviz.model.optics.phase import double_henyey_greenstein
 from planetviz.reference.optical_depth import optical_depth
 from planetviz.tables import QUALITY, precompute
 from planetviz.tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, path_opacity_altitude,
@@ -116,13 +115,18 @@ def test_the_halves_of_the_path_opacity_table_meet_at_the_horizon():
 @pytest.mark.parametrize("g1, g2, alpha", [(0.95, 0.0, 1.0), (0.2, 0.95, 0.1), (-0.95, 0.6, 0.5), (0.0, 0.0, 1.0),
                                            (0.86, -0.71, 0.95)])
 def test_the_phase_table_reads_as_the_phase_functions(g1, g2, alpha):
-    # The format's strongest lobes (|g| up to 0.95) in either component, backward, isotropic, Mars's dust.
-    atm = SimpleNamespace(mie=SimpleNamespace(g1=np.array([g1]), g2=np.array([g2]), alpha=np.array([alpha])))
+    # The format's strongest lobes (|g| up to 0.95) in either component, backward, isotropic, Mars's dust; the
+    # molecules' phase and 1 (the orders above the first by molecules) beside them.
+    earth = load_atmosphere("earth")
+    w = earth.n_wavelengths
+    atm = dataclasses.replace(earth, mie=dataclasses.replace(earth.mie, g1=(g1,) * w, g2=(g2,) * w,
+                                                              alpha=(alpha,) * w))
     table = phase_factor_table(atm)
-    assert table.shape == (PHASE_FACTOR_TEXELS, 1, 2)
+    assert table.shape == (PHASE_FACTOR_TEXELS, w, 4)
     nu = np.cos(np.linspace(0.0, np.pi, 100001))
     got = read_linear(table, phase_factor_u(nu))
-    want = np.stack([double_henyey_greenstein(nu[:, None], atm.mie.g1, atm.mie.g2, atm.mie.alpha),
+    mie = atm.mie.phase_function(nu)
+    want = np.stack([np.broadcast_to(atm.rayleigh.phase_function(nu)[:, None], mie.shape), mie, np.ones_like(mie),
                      forward_factor(atm, nu)], axis=-1)
     err = np.abs(got / want - 1.0)
     assert err.max() < TOLERANCE, err.max()

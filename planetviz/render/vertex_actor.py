@@ -13,7 +13,7 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, path_opacity_altitude,
-                                       path_opacity_table, phase_factor_table, twilight_irradiance)
+                                       path_opacity_table, phase_factor_table, ground_sky_irradiance)
 from .atmosphere_actor import TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
@@ -23,19 +23,19 @@ from .uniforms import draw_uniforms
 
 class InscatterFactorTextures:
     """The textures of shaders/inscatter_factor.glsl (planetviz/tables/inscatter_factor.py):
-    ``phase_twilight_texture``, made once, and ``path_opacity_texture``, the opacity of every view ray from the
+    ``phase_irradiance_texture``, made once, and ``path_opacity_texture``, the opacity of every view ray from the
     frame's ray altitude, made on the CPU (about 1 ms) and uploaded again when that altitude changes (never while
     the camera stays above the atmosphere, where the rays start at its top)."""
 
     def __init__(self, atmosphere, tables):
         self.atmosphere, self.tables = atmosphere, tables
         self.altitude = 0.0
-        self.first_row, self.twilight = twilight_irradiance(tables)
-        self._phase_twilight = self._opacity = self._opacity_altitude = None
+        self.first_row, self.irradiance = ground_sky_irradiance(tables)
+        self._phase_irradiance = self._opacity = self._opacity_altitude = None
 
     def uniforms(self):
         return {"path_opacity_texels": ("f", PATH_OPACITY_TEXELS), "phase_factor_texels": ("f", PHASE_FACTOR_TEXELS),
-                "phase_twilight_rows": ("2f", (self.first_row, len(self.twilight)))}
+                "phase_irradiance_rows": ("2f", (self.first_row, len(self.irradiance)))}
 
     def set_camera_altitude(self, camera_altitude):
         """Follow the camera's altitude [m] (the uniform ``camera_altitude``)."""
@@ -43,28 +43,28 @@ class InscatterFactorTextures:
 
     def bind(self, program, render_window):
         """Upload what is missing or stale, activate the textures and point the samplers at them."""
-        if self._phase_twilight is None:
-            self._phase_twilight = upload(render_window, phase_twilight_image(self.atmosphere, self.twilight))
+        if self._phase_irradiance is None:
+            self._phase_irradiance = upload(render_window, phase_irradiance_image(self.atmosphere, self.irradiance))
         if self._opacity_altitude != self.altitude:
             if self._opacity is not None:
                 self._opacity.ReleaseGraphicsResources(render_window)
             table = path_opacity_table(self.tables, self.altitude, PATH_OPACITY_TEXELS)
             self._opacity = upload(render_window, pack_2d(table[None]))
             self._opacity_altitude = self.altitude
-        for name, tex in (("phase_twilight_texture", self._phase_twilight), ("path_opacity_texture", self._opacity)):
+        for name, tex in (("phase_irradiance_texture", self._phase_irradiance), ("path_opacity_texture", self._opacity)):
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())
 
     def deactivate(self):
-        for tex in (self._phase_twilight, self._opacity):
+        for tex in (self._phase_irradiance, self._opacity):
             if tex is not None:
                 tex.Deactivate()
 
     def release(self, render_window):
-        for tex in (self._phase_twilight, self._opacity):
+        for tex in (self._phase_irradiance, self._opacity):
             if tex is not None:
                 tex.ReleaseGraphicsResources(render_window)
-        self._phase_twilight = self._opacity = self._opacity_altitude = None
+        self._phase_irradiance = self._opacity = self._opacity_altitude = None
 
 
 def group_means(values):
@@ -72,8 +72,8 @@ def group_means(values):
     return np.nanmean(pad_groups(values, fill=np.nan), axis=-1)
 
 
-def phase_twilight_image(atmosphere, twilight):
-    """``phase_twilight_texture``, (G n_rows, n, 4): per group, the twilight irradiance ``twilight`` (n_rows, W)
+def phase_irradiance_image(atmosphere, twilight):
+    """``phase_irradiance_texture``, (G n_rows, n, 4): per group, the twilight irradiance ``twilight`` (n_rows, W)
     times the phases of :func:`phase_factor_table` (n, W, 4), each averaged over the group's wavelengths."""
     phases = group_means(np.moveaxis(phase_factor_table(atmosphere, PHASE_FACTOR_TEXELS), 1, -1))   # (n, 4, G)
     irradiance = group_means(twilight)                                                              # (rows, G)

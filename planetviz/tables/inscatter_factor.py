@@ -1,6 +1,6 @@
 """The small tables that the per-vertex renderer's inscatter factor reads per pixel (shaders/inscatter_factor.glsl,
 the GLSL twins of :func:`path_opacity_u` and :func:`phase_factor_u`): the opacity of every view ray from the frame's
-ray altitude, the phase functions, and the sky's irradiance on the ground in twilight.
+ray altitude, the phase functions, and the sky's irradiance on the ground.
 
 **Path opacity.** The opacity 1 - T of every view ray from one altitude.
 
@@ -21,13 +21,14 @@ the Earth's atmosphere a texel is 0.2 km of tangent altitude (34 texels per 8 km
 Henyey-Greenstein phase, 1 for the molecules' orders above the first, the twice-scattered lobe ``forward_factor``)
 as functions of u = s / sqrt(2) toward the sun (nu >= 0) and 1 - c / sqrt(2) away from it, s = sin(theta / 2) =
 sqrt((1 - nu) / 2), c = cos(theta / 2) = sqrt((1 + nu) / 2), theta the view-sun angle: a lobe of asymmetry |g| is
-(1 - |g|) / (2 sqrt(|g|)) wide in s (forward) or c (backward), 37 texels for |g| = 0.95, where linear
-interpolation's error is below 1e-3.
+(1 - |g|) / (2 sqrt(|g|)) wide in s (forward) or c (backward), 19 texels for |g| = 0.95, where linear
+interpolation's error is below 2e-3.
 
-**Twilight.** The sky's irradiance on the ground E(0, mu_s) at the irradiance table's own texel centres of mu_s
-that cover [MU_S_MIN, 0]: linear interpolation between them is the irradiance table's own reading there. The
+**Sky irradiance.** The sky's irradiance on the ground E(0, mu_s) at the irradiance table's own texel centres of
+mu_s that cover [MU_S_MIN, 1]: linear interpolation between them is the irradiance table's own reading there. The
 renderer stores the phases times this irradiance, an outer product, as one 2D texture: bilinear filtering of a
 product f(x) g(y) of two tables is the product of their linear interpolations, so one fetch reads both factors.
+At standard quality the texture takes 1.4 MB per group of four wavelengths (1024 x 86 texels).
 """
 from __future__ import annotations
 
@@ -42,7 +43,7 @@ from .parameterization import (MU_S_MIN, distance_to_bottom_atmosphere_boundary,
 #: Texels of each half of the path-opacity table (the rays to the ground, the others).
 PATH_OPACITY_TEXELS = 1024
 #: Texels of the phase table along u (module docstring), 0 .. 1.
-PHASE_FACTOR_TEXELS = 2048
+PHASE_FACTOR_TEXELS = 1024
 
 
 def path_opacity_altitude(camera_altitude, bottom, top):
@@ -112,10 +113,10 @@ def phase_factor_table(atm, n=PHASE_FACTOR_TEXELS):
                      forward_factor(atm, nu)], axis=-1)
 
 
-def twilight_irradiance(tables):
+def ground_sky_irradiance(tables):
     """(k0, E): the sky's irradiance on the ground E(0, mu_s) (n, W) at the irradiance table's mu_s texels
-    k0 .. k0 + n - 1, the least run whose centres cover mu_s in [MU_S_MIN, 0]."""
+    k0 .. k0 + n - 1, the least run whose centres cover mu_s in [MU_S_MIN, 1]."""
     n_mu_s = tables.irradiance.shape[1]
-    texel = texcoord_from_unit_range(0.5 * np.array([MU_S_MIN, 0.0]) + 0.5, n_mu_s) * n_mu_s - 0.5
+    texel = texcoord_from_unit_range(0.5 * np.array([MU_S_MIN, 1.0]) + 0.5, n_mu_s) * n_mu_s - 0.5
     k0, k1 = max(int(np.floor(texel[0])), 0), min(int(np.ceil(texel[1])), n_mu_s - 1)
     return k0, tables.irradiance[0, k0:k1 + 1]
