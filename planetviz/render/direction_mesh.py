@@ -30,10 +30,11 @@ SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
 
 #: Rings between the planet's limb and the top of the atmosphere's, seen from above the top where that halo is
 #: wider than HALO_PIXELS pixels: at the tangent altitudes (k / n)^2 of the atmosphere's thickness, k = 1 .. n - 1,
-#: so that the radiance of the rays through the limb, which falls by e about every scale height of tangent
-#: altitude, changes little between rings.
+#: n twice the halo's width in pixels, at least 4 and at most LIMB_RINGS, so that the radiance of the rays through
+#: the limb, which falls by e about every scale height of tangent altitude (from 4 Earth radii, by 100 times across
+#: the halo's 3 pixels), changes little between rings.
 LIMB_RINGS = 16
-HALO_PIXELS = 4
+HALO_PIXELS = 1
 
 
 def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
@@ -41,7 +42,7 @@ def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
     ``bottom`` under an atmosphere to ``top``: dense toward the limb from both sides, two rings 1e-4 rad either
     side of it, and, from above the top (``top_limb``, the top's limb, not None), the top's limb and, where the
     halo between the two limbs is wider than :data:`HALO_PIXELS` pixels of ``pixel`` [rad] (always for None),
-    :data:`LIMB_RINGS` rings of tangent altitudes across it."""
+    rings of tangent altitudes across it (:data:`LIMB_RINGS`)."""
     k = np.arange(1, rings + 1) / (rings + 1)
     inside = limb * (1 - (1 - k) ** 2)
     outside = limb + (math.pi - limb) * k ** 2
@@ -49,7 +50,8 @@ def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
     if top_limb is not None:
         extra += [top_limb - 1e-3, top_limb - 1e-5, top_limb + 1e-3]
         if pixel is None or top_limb - limb > HALO_PIXELS * pixel:
-            tangent = bottom + (top - bottom) * (np.arange(1, LIMB_RINGS) / LIMB_RINGS) ** 2
+            n = LIMB_RINGS if pixel is None else int(np.clip(np.ceil(2.0 * (top_limb - limb) / pixel), 4, LIMB_RINGS))
+            tangent = bottom + (top - bottom) * (np.arange(1, n) / n) ** 2
             extra += list(np.arcsin(tangent / r))
     return np.unique(np.clip(np.concatenate([inside, outside, extra]), 0.0, math.pi))
 
