@@ -297,3 +297,20 @@ def test_the_forward_lobe_around_the_sun_matches_the_per_pixel_renderer(view):
     difference = floored_difference(vertex_image, pixel)
     assert np.sqrt(np.mean(difference ** 2)) < 0.01
     assert np.percentile(difference, 99) < 0.03
+
+
+def test_the_path_opacity_table_follows_the_camera_altitude(vertex):
+    # The per-pixel path opacity comes from a table made for the frame's ray altitude (shaders/inscatter_factor.glsl);
+    # moved from 2 m to 10 km up, the scene must draw what a scene made at 10 km draws. A table left at 2 m reads
+    # every ray's opacity at the wrong place (several times off along the horizon).
+    set_view(vertex, "ground")
+    vertex.render_hdr()
+    set_view(vertex, "aircraft")
+    moved = vertex.render_hdr().radiance
+    fresh = Scene("earth", quality="draft", surface=None, off_screen=True, window_size=SIZE, shading="vertex")
+    try:
+        set_view(fresh, "aircraft")
+        want = fresh.render_hdr().radiance
+    finally:
+        fresh.close()
+    np.testing.assert_allclose(moved, want, rtol=1e-5, atol=0)   # the same draw: equal but for float rounding
