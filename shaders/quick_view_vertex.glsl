@@ -29,7 +29,8 @@
 //   multiple_scattering_texture  sampler2D  Psi_ms [1/sr per unit solar irradiance], rows: altitudes
 //                                 H (i / (n_h - 1))^2 (H the thickness), columns: mu_s = sign(x) x^2, x uniform in
 //                                 [-1, 1]; groups of four wavelengths stacked along y (textures.py pack_2d)
-//   ground_sky_texture     sampler2D  E_sky [per unit solar irradiance] over the same mu_s, one row per group
+//   ground_sky_texture     sampler2D  E_sky [per unit solar irradiance] over mu_s = sign(x) x^2, x uniform in
+//                                 [-1, 1] (GROUND_SKY_COLUMNS columns), one row per group
 //   multiple_scattering_size  vec2  (n_mu_s, n_h) of multiple_scattering_texture
 // Outputs (output channels as output_mode says), interpolated over the triangles:
 //   quick_view_value   vec3  the inscatter (aerial perspective for ground rays)
@@ -92,9 +93,9 @@ vec4 multiple_scattering_at(float h, float mu_s, int g) {
     return texture(multiple_scattering_texture, uv);
 }
 
-// E_sky of group g on the ground where the sun's zenith cosine is mu_s.
+// E_sky of group g on the ground where the sun's zenith cosine is mu_s (its texture has columns of its own).
 vec4 ground_sky_irradiance(float mu_s, int g) {
-    float n = multiple_scattering_size.x;
+    float n = float(textureSize(ground_sky_texture, 0).x);
     float x = cosine_coordinate(mu_s) * (n - 1.0);
     return texture(ground_sky_texture, vec2((x + 0.5) / n, (float(g) + 0.5) / float(group_count)));
 }

@@ -65,7 +65,11 @@ def test_vertex_shader_matches_its_numpy_twin(quick, view):
                                   multiple=actor.multiple, ground_sky=actor.ground_sky)
     seen = want.max(-1) > 0
     assert seen.sum() > 50 and np.array_equal(got.max(-1) > 0, seen)
-    assert np.max(np.abs(got - want)[seen] / want[seen]) < 2e-3
+    # Relative to the value, floored at 1e-6 of the brightest: the GPU filters textures with 8-bit weights
+    # (llvmpipe), so where a table falls by orders of magnitude from one texel to the next (the sky's irradiance on
+    # the night side's ground, 1e-12 of the frame) a read is off by up to 2^-9 of the step, far above 2e-3 of it.
+    floor = 1e-6 * want.max()
+    assert np.max(np.abs(got - want)[seen] / np.maximum(want, floor)[seen]) < 2e-3
 
 
 def test_the_mesh_is_dense_around_the_sun_and_straddles_the_horizon():

@@ -47,6 +47,11 @@ MS_STEPS = 16
 #: Directions of the sky's irradiance on the ground: its single scattering has the particles' forward lobe, which
 #: 32 directions over the sky's half alias (Mars' sky irradiance jumps by 60% from one sun elevation to the next).
 GROUND_SKY_DIRECTIONS = 256
+#: Columns of the sky's irradiance on the ground (mu_s on cosine_grid): in twilight it falls by about 7 times per
+#: column of Psi_ms's 32 (2 deg of sun elevation near -4 deg), and linear filtering between such columns read the
+#: Earth preset's 1.4 times the tables' irradiance at -4 deg and 2.1 times at -6 deg; 128 columns are 0.5 deg apart
+#: there.
+GROUND_SKY_COLUMNS = 128
 #: Transmittance table size (altitudes, view zenith cosines) and midpoints (power law 2) along each ray.
 TRANSMITTANCE_SIZE = (32, 64)
 TRANSMITTANCE_STEPS = 40
@@ -207,13 +212,14 @@ def multiple_scattering_table(atm, size=MS_SIZE, directions=MS_DIRECTIONS, steps
     return second / (1.0 - np.minimum(f_ms, 0.999))[:, None, :]
 
 
-def ground_sky_irradiance(atm, psi, transmittance, directions=GROUND_SKY_DIRECTIONS, steps=MS_STEPS):
-    """E_sky (n_mu_s, W): the irradiance of the sky on the ground per unit solar irradiance, at the mu_s of
-    ``psi``'s columns: the sum over the upward directions omega of the :func:`fibonacci_sphere` of
+def ground_sky_irradiance(atm, psi, transmittance, columns=GROUND_SKY_COLUMNS, directions=GROUND_SKY_DIRECTIONS,
+                          steps=MS_STEPS):
+    """E_sky (columns, W): the irradiance of the sky on the ground per unit solar irradiance, at the mu_s of
+    :func:`cosine_grid` (``columns``): the sum over the upward directions omega of the :func:`fibonacci_sphere` of
     L(omega) cos(theta) 4 pi / D, with L(omega) the single scattering (the atmosphere's phase functions) and
     the orders above it (``psi``) along omega, as the quick view computes them on a view ray."""
     b_r, b_m, extinction = coefficients(atm, "physical")
-    n_mu_s = psi.shape[1]
+    n_mu_s = columns
     R = atm.bottom_radius_m
     omega = fibonacci_sphere(directions)
     omega = omega[omega[:, 2] > 0.0]                                   # (U, 3) the sky's half

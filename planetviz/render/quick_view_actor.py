@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
-from ..quick_view.multiple_scattering import MS_SIZE, ORDERS, quick_view_tables
+from ..quick_view.multiple_scattering import GROUND_SKY_COLUMNS, MS_SIZE, ORDERS, quick_view_tables
 from ..quick_view.single_scattering import SAMPLING, coefficients, check_settings
 from .background import BackgroundJob
 from .direction_mesh import DirectionMeshActor
@@ -131,7 +131,8 @@ class QuickViewActor(DirectionMeshActor):
         if "multiple_scattering_texture" not in self._textures:
             shape = (*MS_SIZE, self.atmosphere.n_wavelengths)
             psi = self.multiple if self.multiple is not None else np.zeros(shape, np.float32)
-            sky = self.ground_sky if self.ground_sky is not None else np.zeros(shape[1:], np.float32)
+            sky = (self.ground_sky if self.ground_sky is not None
+                   else np.zeros((GROUND_SKY_COLUMNS, self.atmosphere.n_wavelengths), np.float32))
             self._textures["multiple_scattering_texture"] = upload(window, pack_2d(psi.astype(np.float32)))
             self._textures["ground_sky_texture"] = upload(window, pack_2d(sky[None].astype(np.float32)))
         for name, tex in self._textures.items():
