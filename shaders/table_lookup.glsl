@@ -112,6 +112,21 @@ vec4 get_transmittance_to_sun(float a, float mu_s, int g) {
     return ray_intersects_ground(a, mu_s) ? vec4(0.0) : get_transmittance_to_top_atmosphere_boundary(a, mu_s, g);
 }
 
+// a^(1 - f) b^f, a zero neighbour raised to ZERO_FLOOR times the other (0 where both are 0); f < 0 continues a
+// decay beyond a, never above a.
+const float ZERO_FLOOR = 1e-3;
+vec4 geometric_blend(vec4 a, vec4 b, float f) {
+    bvec4 lit = bvec4(vec4(greaterThan(a, vec4(0.0))) + vec4(greaterThan(b, vec4(0.0))));
+    // mix with a bvec selects; with 0/1 float weights it is x + w (y - x), which NVIDIA's compiler evaluates as
+    // such: 1 + (1e-6 - 1) keeps 1e-6 to 6%, 1 + (1e-37 - 1) is 0, and a 0 here made log(0 / 0) NaN (twilight
+    // rays from space read 0 or NaN on an H100, benchmarks/gpu_agreement.py; llvmpipe computes it exactly).
+    vec4 a_f = mix(vec4(1.0), max(max(a, ZERO_FLOOR * b), 1e-37), lit);
+    vec4 b_f = mix(vec4(1.0), max(max(b, ZERO_FLOOR * a), 1e-37), lit);
+    vec4 ratio = b_f / a_f;                          // within [ZERO_FLOOR, 1 / ZERO_FLOOR]: no overflow below
+    if (f < 0.0) ratio = max(ratio, vec4(1.0));
+    return a_f * exp(f * log(ratio)) * vec4(lit);
+}
+
 // ---------------------------------------------------------------------------------------------- irradiance
 vec2 irradiance_uv_from_r_mu_s(float a, float mu_s) {
     float x_r = a / (top_radius - bottom_radius);
@@ -119,8 +134,18 @@ vec2 irradiance_uv_from_r_mu_s(float a, float mu_s) {
     return vec2(texcoord_from_unit_range(x_mu_s, irradiance_size.x), texcoord_from_unit_range(x_r, irradiance_size.y));
 }
 
+// E(a, mu_s) of group g as the NumPy get_irradiance reads it: the hardware interpolates r at two exact mu_s texel
+// centres, blended linearly where the upper one is above the horizon and geometrically where it is not.
 vec4 get_irradiance(float a, float mu_s, int g) {
-    return texture_group(irradiance_texture, irradiance_uv_from_r_mu_s(a, mu_s), g);
+    vec2 uv = irradiance_uv_from_r_mu_s(a, mu_s);
+    float n = irradiance_size.x;
+    float s = uv.x * n - 0.5;
+    float s0 = clamp(floor(s), 0.0, n - 1.0);
+    float s1 = clamp(floor(s) + 1.0, 0.0, n - 1.0);
+    float f = s - floor(s);
+    vec4 low = texture_group(irradiance_texture, vec2((s0 + 0.5) / n, uv.y), g);
+    vec4 high = texture_group(irradiance_texture, vec2((s1 + 0.5) / n, uv.y), g);
+    return 2.0 * s1 / (n - 1.0) - 1.0 <= 0.0 ? geometric_blend(low, high, f) : mix(low, high, f);
 }
 
 // ---------------------------------------------------------------------------------------------- scattering
@@ -195,21 +220,6 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, 
     }
     float u_mu_s = texcoord_from_unit_range(max(x_mu_s_from_mu_s(mu_s), 0.0), size.y);
     return vec4(x_nu_from_nu(mu, mu_s, nu), u_mu_s, u_mu, u_r);
-}
-
-// a^(1 - f) b^f, a zero neighbour raised to ZERO_FLOOR times the other (0 where both are 0); f < 0 continues a
-// decay beyond a, never above a.
-const float ZERO_FLOOR = 1e-3;
-vec4 geometric_blend(vec4 a, vec4 b, float f) {
-    bvec4 lit = bvec4(vec4(greaterThan(a, vec4(0.0))) + vec4(greaterThan(b, vec4(0.0))));
-    // mix with a bvec selects; with 0/1 float weights it is x + w (y - x), which NVIDIA's compiler evaluates as
-    // such: 1 + (1e-6 - 1) keeps 1e-6 to 6%, 1 + (1e-37 - 1) is 0, and a 0 here made log(0 / 0) NaN (twilight
-    // rays from space read 0 or NaN on an H100, benchmarks/gpu_agreement.py; llvmpipe computes it exactly).
-    vec4 a_f = mix(vec4(1.0), max(max(a, ZERO_FLOOR * b), 1e-37), lit);
-    vec4 b_f = mix(vec4(1.0), max(max(b, ZERO_FLOOR * a), 1e-37), lit);
-    vec4 ratio = b_f / a_f;                          // within [ZERO_FLOOR, 1 / ZERO_FLOOR]: no overflow below
-    if (f < 0.0) ratio = max(ratio, vec4(1.0));
-    return a_f * exp(f * log(ratio)) * vec4(lit);
 }
 
 // 1 - exp(-x) for x >= 0 without cancellation for small x (NumPy: -expm1(-x)); the series' error below 1e-2 is

@@ -179,11 +179,25 @@ def get_transmittance_to_sun(t, r, mu_s):
 
 
 def get_irradiance(t, r, mu_s, table=None):
-    """Indirect (sky) irradiance E(r, mu_s) per unit solar irradiance (``table``: default t.irradiance)."""
+    """Indirect (sky) irradiance E(r, mu_s) per unit solar irradiance (``table``: default t.irradiance): linear in r;
+    along mu_s linear between two texels where the upper one has the sun above the horizon, geometric
+    (:func:`geometric_blend`) where it has not.
+
+    Why geometric below the horizon: there E falls by about e per degree of the sun's depression, a convex fall that
+    linear interpolation between texels 0.9 deg apart (standard) read up to 19% high between them on the Earth
+    preset (-4 to -12 deg, against a table of 1024 texels); geometric, within 3%. Above the horizon E is concave in
+    mu_s and the linear reading is the closer (0.1% against 0.8%). The two blends agree at texel centres, so E stays
+    continuous."""
     table = t.irradiance if table is None else table
     n_r, n_mu_s = table.shape[:2]
     u, v = irradiance_uv_from_r_mu_s(r, mu_s, t.bottom, t.top, (n_mu_s, n_r))
-    return texture2d(table, u, v)
+    u0, u1, fu = texel_axis(u, n_mu_s)
+    v0, v1, fv = texel_axis(v, n_r)
+    fu, fv = fu[..., None], fv[..., None]
+    low = table[v0, u0] * (1 - fv) + table[v1, u0] * fv
+    high = table[v0, u1] * (1 - fv) + table[v1, u1] * fv
+    below = (2.0 * u1 / (n_mu_s - 1) - 1.0 <= 0.0)[..., None]
+    return np.where(below, geometric_blend(low, high, fu), low + (high - low) * fu)
 
 
 class ScatteringStencil:
