@@ -31,7 +31,7 @@
 //   path_opacity_texels      float      texels of each half of path_opacity_texture
 //   phase_irradiance_texture sampler2D  per group (blocks stacked along y) the outer product of the phases of the
 //                                       inscatter's four parts along x (phase_factor_table, at phase_factor_u) and
-//                                       the sky's irradiance on the ground along y (ground_sky_irradiance: the
+//                                       the sky's irradiance on the ground along y (sky_irradiance_rows: the
 //                                       irradiance table's texels from phase_irradiance_rows.x on), each averaged
 //                                       over the group's wavelengths (planetviz/tables/inscatter_factor.py)
 //   phase_factor_texels      float      texels of phase_irradiance_texture along x

@@ -13,7 +13,7 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, path_opacity_altitude,
-                                       path_opacity_table, phase_factor_table, ground_sky_irradiance)
+                                       path_opacity_table, phase_factor_table, sky_irradiance_rows)
 from .atmosphere_actor import TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
@@ -30,7 +30,7 @@ class InscatterFactorTextures:
     def __init__(self, atmosphere, tables):
         self.atmosphere, self.tables = atmosphere, tables
         self.altitude = 0.0
-        self.first_row, self.irradiance = ground_sky_irradiance(tables)
+        self.first_row, self.irradiance = sky_irradiance_rows(tables)
         self._phase_irradiance = self._opacity = self._opacity_altitude = None
 
     def uniforms(self):

@@ -113,7 +113,7 @@ def phase_factor_table(atm, n=PHASE_FACTOR_TEXELS):
                      forward_factor(atm, nu)], axis=-1)
 
 
-def ground_sky_irradiance(tables):
+def sky_irradiance_rows(tables):
     """(k0, E): the sky's irradiance on the ground E(0, mu_s) (n, W) at the irradiance table's mu_s texels
     k0 .. k0 + n - 1, the least run whose centres cover mu_s in [MU_S_MIN, 1]."""
     n_mu_s = tables.irradiance.shape[1]
