@@ -72,11 +72,12 @@ def group_means(values):
     return np.nanmean(pad_groups(values, fill=np.nan), axis=-1)
 
 
-def phase_irradiance_image(atmosphere, twilight):
-    """``phase_irradiance_texture``, (G n_rows, n, 4): per group, the twilight irradiance ``twilight`` (n_rows, W)
-    times the phases of :func:`phase_factor_table` (n, W, 4), each averaged over the group's wavelengths."""
+def phase_irradiance_image(atmosphere, rows):
+    """``phase_irradiance_texture``, (G n_rows, n, 4): per group, the sky's irradiance on the ground ``rows``
+    (n_rows, W; :func:`sky_irradiance_rows`) times the phases of :func:`phase_factor_table` (n, W, 4), each averaged
+    over the group's wavelengths."""
     phases = group_means(np.moveaxis(phase_factor_table(atmosphere, PHASE_FACTOR_TEXELS), 1, -1))   # (n, 4, G)
-    irradiance = group_means(twilight)                                                              # (rows, G)
+    irradiance = group_means(rows)                                                                  # (rows, G)
     image = irradiance.T[:, :, None, None] * np.moveaxis(phases, -1, 0)[:, None]                   # (G, rows, n, 4)
     return np.ascontiguousarray(image.reshape(-1, *image.shape[2:]), dtype=np.float32)
 
