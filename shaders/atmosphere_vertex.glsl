@@ -1,6 +1,6 @@
-// The table-based renderer per vertex (after atmosphere_ray.glsl and inscatter_factor.glsl): for the direction
-// from the camera to a vertex of the direction mesh around the camera, the inscatter of atmosphere_ray.glsl (the 4D
-// tables), the sun disc's radiance and the light the ground sends toward the camera, summed over the wavelength
+// The table-based renderer per vertex (after atmosphere_ray.glsl and inscatter_factor.glsl): for the direction of
+// a vertex of the direction mesh around the camera (direction_mesh.glsl), the inscatter of atmosphere_ray.glsl (the
+// 4D tables), the sun disc's radiance and the light the ground sends toward the camera, summed over the wavelength
 // groups into the three output channels, for atmosphere_interpolated.glsl to interpolate over the triangles and
 // complete per pixel.
 //
@@ -63,8 +63,8 @@ void ground_light_columns(ViewRay ray) {
     }
 }
 
-void atmosphere_vertex(vec3 vertex_position) {
-    ViewRay ray = view_ray(normalize(vertex_position - camera_position));
+void atmosphere_vertex(vec3 direction) {
+    ViewRay ray = view_ray(direction);
     mesh_inscatter = vec3(0.0);
     mesh_phase_weights = vec4(0.0, 0.0, 1.0, 0.0);
     mesh_factor = 0.0;

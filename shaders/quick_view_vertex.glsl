@@ -1,13 +1,13 @@
 // Quick view: Keller and Bohn's single scattering computed per vertex, with no 4D tables (after common.glsl and
 // view.glsl).
-// The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction from the
-// camera to the vertex, L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i plus the sunlit ground, with
-// the midpoint rule on (i / n)^view_exponent and each optical depth on (j / m)^density_exponent. With
-// multiple_scattering = 1, the orders above the first from Hillaire's table Psi_ms(h, mu_s)
-// (planetviz/quick_view/multiple_scattering.py): sum_i Delta_i beta_s(h_i) Psi_ms exp(-tau(x, p_i)), and the sky's
-// irradiance on the ground E_sky(mu_s) added to the sun's. The ground's light is output per unit of the surface
-// colour and split by the sun's cosine, as atmosphere_vertex.glsl does, for quick_view_fragment.glsl to complete
-// per pixel with the surface texture and the terminator.
+// The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction of a
+// vertex of the direction mesh (direction_mesh.glsl), L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i
+// plus the sunlit ground, with the midpoint rule on (i / n)^view_exponent and each optical depth on
+// (j / m)^density_exponent. With multiple_scattering = 1, the orders above the first from Hillaire's table
+// Psi_ms(h, mu_s) (planetviz/quick_view/multiple_scattering.py): sum_i Delta_i beta_s(h_i) Psi_ms
+// exp(-tau(x, p_i)), and the sky's irradiance on the ground E_sky(mu_s) added to the sun's. The ground's light is
+// output per unit of the surface colour and split by the sun's cosine, as atmosphere_vertex.glsl does, for
+// quick_view_fragment.glsl to complete per pixel with the surface texture and the terminator.
 //
 // Uniforms: those of view.glsl (the camera, the sun, the output channels, the albedo), and
 //   view_samples           int    n, points on the view path
@@ -216,8 +216,7 @@ void quick_view_ground(vec3 v, int g, out vec4 sky, out vec4 sun) {
     if (multiple_scattering == 1) sky = t_view * ground_sky_irradiance(mu_s, g);
 }
 
-void quick_view_vertex(vec3 vertex_position) {
-    vec3 v = normalize(vertex_position - camera_position);
+void quick_view_vertex(vec3 v) {
     quick_view_value = vec3(0.0);
     quick_ground_sky = mat3(0.0);
     quick_ground_sun = mat3(0.0);

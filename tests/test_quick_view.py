@@ -77,7 +77,8 @@ def test_the_mesh_is_dense_around_the_sun_and_straddles_the_horizon():
     R = atm.bottom_radius_m
     cam = np.array([0.0, 0.0, R + 2.0])
     sun = np.array([np.cos(0.3), 0.0, np.sin(0.3)])
-    dirs, tris = direction_mesh(cam, sun, R, atm.top_radius_m)
+    mesh = direction_mesh(cam, sun, R, atm.top_radius_m)
+    dirs, tris = mesh.directions, mesh.triangles
     angle = np.degrees(np.arccos(np.clip(dirs @ sun, -1, 1)))
     # Vertices per square degree within 3 deg of the sun against the sky's average: the paper's adaptive dome.
     near = (angle < 3).sum() / (np.pi * 3 ** 2)

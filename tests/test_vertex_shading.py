@@ -12,7 +12,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 from planetviz import load_atmosphere  # noqa: E402
 from planetviz.model.geometry import distance_to_ground  # noqa: E402
 from planetviz.render import Scene  # noqa: E402
-from planetviz.render.direction_mesh import direction_mesh, in_view, may_meet_disc, may_meet_sphere  # noqa: E402
+from planetviz.render.direction_mesh import direction_mesh  # noqa: E402
 from planetviz.render.scene import is_software_renderer  # noqa: E402
 from planetviz.render.uniforms import camera_uniforms  # noqa: E402
 from planetviz.validation.pictures import VIEWS, floored_difference, view_luminance  # noqa: E402
@@ -87,16 +87,17 @@ def test_culling_empty_space_drops_no_ray_to_the_atmosphere_or_the_sun(altitude,
     side /= np.linalg.norm(side)
     a = np.radians(sun_from_nadir)
     sun = np.cos(a) * down + np.sin(a) * side
-    dirs, tris = direction_mesh(cam, sun, R, top)
+    mesh = direction_mesh(cam, sun, R, top)
+    dirs = mesh.directions
     radius = np.radians(0.2666)
-    kept = may_meet_sphere(dirs, tris, cam, top) | may_meet_disc(dirs, tris, sun, radius)
-    assert 0 < np.count_nonzero(kept) < len(tris)
-    rays = rays_inside(dirs, tris[~kept])
+    kept = mesh.may_meet_sphere(cam, top) | mesh.may_meet_disc(sun, radius)
+    assert 0 < np.count_nonzero(kept) < len(kept)
+    rays = rays_inside(dirs, mesh.triangles_of(~kept))
     assert np.all(np.isinf(distance_to_ground(np.broadcast_to(cam, rays.shape), rays, top)))
     assert np.all(rays @ sun < np.cos(radius))
     # The mesh has a vertex in the disc, and the triangles around it are drawn.
     centre = np.argmax(dirs @ sun)
-    assert dirs[centre] @ sun > np.cos(radius) and np.any(tris[kept] == centre)
+    assert dirs[centre] @ sun > np.cos(radius) and np.any(mesh.triangles_of(kept) == centre)
 
 
 def test_sphere_and_disc_tests_are_conservative_on_coarse_meshes():
@@ -110,12 +111,13 @@ def test_sphere_and_disc_tests_are_conservative_on_coarse_meshes():
         cam = rng.normal(size=3)
         cam *= R * np.exp(rng.uniform(np.log(1.001), np.log(50.0))) / np.linalg.norm(cam)
         mesh_sun, disc = (v / np.linalg.norm(v) for v in rng.normal(size=(2, 3)))
-        dirs, tris = direction_mesh(cam, mesh_sun, R, 1.01 * R, rings=6, sectors=8)
+        mesh = direction_mesh(cam, mesh_sun, R, 1.01 * R, rings=6, sectors=8)
         radius = np.radians(rng.uniform(0.3, 10.0))
         sphere = R * rng.uniform(0.5, 1.0)
-        rays = rays_inside(dirs, tris[~may_meet_sphere(dirs, tris, cam, sphere)])
+        rays = rays_inside(mesh.directions, mesh.triangles_of(~mesh.may_meet_sphere(cam, sphere)))
         assert np.all(np.isinf(distance_to_ground(np.broadcast_to(cam, rays.shape), rays, sphere)))
-        assert np.all(rays_inside(dirs, tris[~may_meet_disc(dirs, tris, disc, radius)]) @ disc < np.cos(radius))
+        assert np.all(rays_inside(mesh.directions, mesh.triangles_of(~mesh.may_meet_disc(disc, radius))) @ disc
+                      < np.cos(radius))
 
 
 @pytest.mark.parametrize("altitude", [2.0, 1e4, 1e5, 1.9e7, 1e9])
@@ -127,10 +129,10 @@ def test_the_sky_part_of_the_mesh_holds_no_ray_to_the_ground(altitude):
     R = atm.bottom_radius_m
     cam = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]) * (R + altitude)
     sun = np.array([0.0, 0.6, 0.8])
-    dirs, tris = direction_mesh(cam, sun, R, atm.top_radius_m)
-    sky = tris[~may_meet_sphere(dirs, tris, cam, R)]
-    assert len(sky) > 0.3 * len(tris)
-    rays = rays_inside(dirs, sky)
+    mesh = direction_mesh(cam, sun, R, atm.top_radius_m)
+    sky = mesh.triangles_of(~mesh.may_meet_sphere(cam, R))
+    assert len(sky) > 0.3 * len(mesh.triangles)
+    rays = rays_inside(mesh.directions, sky)
     assert np.all(np.isinf(distance_to_ground(np.broadcast_to(cam, rays.shape), rays, R)))
 
 
@@ -143,12 +145,12 @@ def test_culling_to_the_view_leaves_no_pixel_uncovered(vertex, heading, pitch, f
     lum = vertex.render_hdr().linear_srgb[..., 1]
     assert np.all(lum > 0), np.argwhere(lum <= 0)[:5]
     forward = vertex.pixel_directions(np.array([SIZE[1] / 2 - 0.5]), np.array([SIZE[0] / 2 - 0.5]))[0]
-    dirs, tris = direction_mesh(vertex.camera_location, vertex.sun_direction, vertex.atmosphere.bottom_radius_m,
-                                vertex.atmosphere.top_radius_m)
-    assert np.all(np.isclose(np.linalg.norm(dirs, axis=1), 1.0)) and np.dot(forward, forward) > 0.99
+    mesh = direction_mesh(vertex.camera_location, vertex.sun_direction, vertex.atmosphere.bottom_radius_m,
+                          vertex.atmosphere.top_radius_m)
+    assert np.all(np.isclose(np.linalg.norm(mesh.directions, axis=1), 1.0)) and np.dot(forward, forward) > 0.99
     view = camera_uniforms(vertex.renderer)
-    assert np.count_nonzero(in_view(dirs, tris, *(view[k][1] for k in
-                                                  ("camera_forward", "camera_right", "camera_up")))) < len(tris)
+    seen = mesh.in_view(*(view[k][1] for k in ("camera_forward", "camera_right", "camera_up")))
+    assert np.count_nonzero(seen) < len(seen)
 
 
 @pytest.mark.parametrize("view", ["ground", "space"])

@@ -2,12 +2,16 @@
 its vertices (the quick view, shaders/quick_view_vertex.glsl, and the per-vertex table renderer,
 shaders/atmosphere_vertex.glsl).
 
-The mesh is a sphere of directions centred on the camera (drawn at mid-depth: at its true distance a 16-bit
-depth buffer, as in the float read-back, rounds it onto the far plane and drops fragments), rebuilt (in NumPy, a
-few milliseconds) whenever the camera or the sun moves: rings of constant angle from the nadir, dense just inside
+The mesh is a sphere of directions around the camera: rings of constant angle from the nadir, dense just inside
 and outside the planet's limb (the horizon seen from the ground) with a pair of rings straddling it, so the
 horizon's step in brightness is sharp; and extra rings and sectors around the sun, where the forward-scattering
-peak needs them (the paper's "adaptive dome tessellated around the sun").
+peak needs them (the paper's "adaptive dome tessellated around the sun"). Its vertices hold their ring's and
+sector's indices, and shaders/direction_mesh.glsl makes their directions from the rings' and sectors' angles and the
+mesh's axes, uniforms: when the camera or the sun moves, NumPy recomputes those angles and which quads are drawn (about
+1 ms), and the vertex buffer stays as it is. Each vertex is drawn at infinity along its direction (the camera's
+translation drops out of the projection, so no float32 rounding of positions 6.4e6 m from the planet's centre) and at
+mid-depth (at a true distance a 16-bit depth buffer, as in the float read-back, rounds it onto the far plane and
+drops fragments).
 """
 from __future__ import annotations
 
@@ -22,10 +26,14 @@ from vtkmodules.vtkCommonCore import VTK_OBJECT, vtkCommand, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkRenderingCore import vtkActor, vtkAssembly, vtkPolyDataMapper
 
+from .shaders import shader_code
 from .uniforms import DisplaySettings, UniformStore, camera_uniforms, frame_key
 
 #: Degrees around the sun and around the limb where the mesh is refined.
 SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
+#: Rings on each side of the limb and sectors around the nadir of the actors' meshes (before the refinements).
+RINGS = 40
+SECTORS = 72
 
 
 #: Rings between the planet's limb and the top of the atmosphere's, seen from above the top where that halo is
@@ -35,6 +43,10 @@ SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
 #: the halo's 3 pixels), changes little between rings.
 LIMB_RINGS = 16
 HALO_PIXELS = 1
+#: The most rings and sectors a mesh of RINGS and SECTORS has (every refinement distinct): the lengths of the
+#: shader's ring_theta and sector_phi arrays (shaders/direction_mesh.glsl).
+MESH_RINGS = 2 * RINGS + 4 + 3 + (LIMB_RINGS - 1) + 2 * len(SUN_REFINEMENT_DEG) + 1
+MESH_SECTORS = SECTORS + 2 * len(SUN_REFINEMENT_DEG) + 1
 
 
 def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
@@ -56,9 +68,97 @@ def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
     return np.unique(np.clip(np.concatenate([inside, outside, extra]), 0.0, math.pi))
 
 
-def direction_mesh(camera, sun, bottom, top, rings=40, sectors=72, pixel=None):
-    """(unit directions (n, 3), triangles (m, 3)) of the adaptive sphere of directions around ``camera``;
-    ``pixel``: the angle [rad] a pixel spans at the centre of the view (None: as if it were small)."""
+class DirectionMesh:
+    """The adaptive sphere of directions of :func:`direction_mesh`: ``theta`` (n_t,) rings' angles from the nadir
+    ``down`` and ``phi`` (n_p,) sectors' azimuths from ``e1`` toward ``e2`` (about ``down``), both increasing.
+    Quad (i, j) joins rings i and i + 1 and sectors j and j + 1 (the last sector to the first); its two triangles
+    are rows 2 q and 2 q + 1 of :attr:`triangles`, q = i n_p + j. The culling tests work quad by quad on the rings'
+    and sectors' angles (a few NumPy operations on small arrays: the mesh is rebuilt on every frame of a moving
+    camera) and return (n_quads,) bools; :meth:`triangles_of` turns such a mask into triangles."""
+
+    def __init__(self, theta, phi, down, e1, e2):
+        self.theta, self.phi = theta, phi
+        self.down, self.e1, self.e2 = down, e1, e2
+        st, ct = np.sin(theta)[:, None, None], np.cos(theta)[:, None, None]
+        around = np.cos(phi)[None, :, None] * e1 + np.sin(phi)[None, :, None] * e2
+        self.grid = ct * down + st * around                           # (n_t, n_p, 3)
+        self.directions = self.grid.reshape(-1, 3)
+        self.triangles = ring_triangles(len(theta), len(phi))
+        self.longest_edges = self._longest_edges()
+
+    def _longest_edges(self):
+        """(n_t - 1, n_p) the longest chord between two corners of each quad (its sides and its diagonal, an
+        upper bound on the longest edge of its two triangles), from chord^2 = 2 - 2 cos."""
+        t0, t1 = self.theta[:-1, None], self.theta[1:, None]
+        d_phi = (np.roll(self.phi, -1) - self.phi) % (2 * math.pi)
+        half = np.sin(0.5 * d_phi)[None, :]
+        rings = 2.0 * np.maximum(np.sin(t0), np.sin(t1)) * half
+        sides = np.broadcast_to(2.0 * np.sin(0.5 * (t1 - t0)), rings.shape)
+        cos_diagonal = np.cos(t0) * np.cos(t1) + np.sin(t0) * np.sin(t1) * np.cos(d_phi)[None, :]
+        diagonal = np.sqrt(np.maximum(2.0 - 2.0 * cos_diagonal, 0.0))
+        return np.maximum(np.maximum(rings, sides), diagonal)
+
+    def _corners(self, values):
+        """The four corners' ``values`` (n_t, n_p) of each quad: (a, b, c, d) each (n_t - 1, n_p)."""
+        ahead = np.roll(values, -1, axis=1)
+        return values[:-1], ahead[:-1], values[1:], ahead[1:]
+
+    def uniforms(self):
+        """{name: (kind, value)} of shaders/direction_mesh.glsl for this mesh (the arrays padded with their last
+        value to MESH_RINGS and MESH_SECTORS; a mesh made with more rings or sectors than RINGS and SECTORS does not
+        fit)."""
+        return {"mesh_from_grid": ("i", 1), "mesh_down": ("3f", self.down), "mesh_e1": ("3f", self.e1),
+                "mesh_e2": ("3f", self.e2),
+                "ring_theta": ("1fv", np.pad(self.theta, (0, MESH_RINGS - len(self.theta)), mode="edge")),
+                "sector_phi": ("1fv", np.pad(self.phi, (0, MESH_SECTORS - len(self.phi)), mode="edge"))}
+
+    def triangles_of(self, quads):
+        """(m, 3) the triangles of the quads where the (n_quads,) bool ``quads`` is true."""
+        return self.triangles.reshape(-1, 2, 3)[np.asarray(quads).ravel()].reshape(-1, 3)
+
+    def in_view(self, forward, right, up):
+        """The quads not wholly outside one side of the view frustum (``right`` and ``up`` scaled by the tangents
+        of the half fields of view, as in :func:`camera_uniforms`). The sides are planes through the camera, so a
+        flat quad with its four corners beyond one of them is beyond it whole."""
+        forward = np.asarray(forward, dtype=float)
+        sides = [np.asarray(v, dtype=float) for v in (right, up)]
+        normals = np.stack([side / np.dot(side, side) - forward for v in sides for side in (v, -v)], axis=1)
+        # One bit per side for each vertex; a quad is out when its four corners share a bit.
+        beyond = ((self.grid @ normals) > 0.0).astype(np.uint8) @ np.array([1, 2, 4, 8], np.uint8)
+        a, b, c, d = self._corners(beyond)
+        return ((a & b & c & d) == 0).ravel()
+
+    def may_meet_sphere(self, camera, radius):
+        """The quads that may contain rays from ``camera`` meeting the sphere of ``radius`` about the planet's
+        centre (the ground, or the top of the atmosphere): a corner inside the sphere's cone, or within the
+        largest distance [rad] by which an edge between two corners outside the cone can dip inside it (the edges
+        are great-circle arcs, the cone's edge a small circle), plus 1e-3 rad. ``camera`` must lie on the mesh's
+        nadir axis."""
+        r = np.linalg.norm(np.asarray(camera, dtype=float))
+        if r <= radius:
+            return np.ones(self.longest_edges.size, bool)
+        limb = math.asin(radius / r)
+        # The longest edge of each ring of quads as half an azimuthal span on the cone's circle, then the dip of an
+        # arc of that span: tan(theta_mid) = tan(limb) cos(half span). A quad's least nadir angle is its first
+        # ring's, so the test holds for whole rings of quads.
+        half = np.arcsin(np.clip(self.longest_edges.max(axis=1) / (2 * math.sin(limb)), 0.0, 1.0))
+        dip = limb - np.arctan(math.tan(min(limb, math.pi / 2 - 1e-9)) * np.cos(half))
+        return np.repeat(self.theta[:-1] <= limb + dip + 1e-3, len(self.phi))
+
+    def may_meet_disc(self, direction, radius):
+        """The quads that may contain directions within ``radius`` [rad] of the unit ``direction`` (the sun's
+        disc): any point of a quad's triangles lies within the quad's longest chord of a corner, so a quad meeting
+        the disc has a corner within ``radius`` + that chord (as angles, plus 1e-3 rad)."""
+        cos_to = np.clip(self.grid @ np.asarray(direction, dtype=float), -1.0, 1.0)
+        a, b, c, d = self._corners(cos_to)
+        nearest = np.maximum(np.maximum(a, b), np.maximum(c, d))
+        reach = radius + 2.0 * np.arcsin(np.minimum(self.longest_edges / 2.0, 1.0)) + 1e-3
+        return (np.arccos(nearest) <= reach).ravel()
+
+
+def direction_mesh(camera, sun, bottom, top, rings=RINGS, sectors=SECTORS, pixel=None):
+    """The adaptive sphere of directions around ``camera`` (:class:`DirectionMesh`); ``pixel``: the angle [rad] a
+    pixel spans at the centre of the view (None: as if it were small)."""
     camera = np.asarray(camera, dtype=float)
     r = np.linalg.norm(camera)
     down = -camera / r
@@ -79,9 +179,7 @@ def direction_mesh(camera, sun, bottom, top, rings=40, sectors=72, pixel=None):
     phi = np.concatenate([np.linspace(-math.pi, math.pi, sectors, endpoint=False),
                           np.clip(refine / ring_radius, 0, math.pi), -np.clip(refine / ring_radius, 0, math.pi), [0.0]])
     phi = np.unique(np.mod(phi + math.pi, 2 * math.pi) - math.pi)
-    st, ct = np.sin(theta)[:, None], np.cos(theta)[:, None]
-    dirs = (ct[..., None] * down + st[..., None] * (np.cos(phi)[None, :, None] * e1 + np.sin(phi)[None, :, None] * e2))
-    return dirs.reshape(-1, 3), ring_triangles(len(theta), len(phi))
+    return DirectionMesh(theta, phi, down, e1, e2)
 
 
 @functools.lru_cache(maxsize=8)
@@ -99,72 +197,19 @@ def ring_triangles(n_t, n_p):
     return tris
 
 
-def in_view(dirs, tris, forward, right, up):
-    """(m,) bool: the triangles of a direction mesh not wholly outside one side of the view frustum (``right``
-    and ``up`` scaled by the tangents of the half fields of view, as in :func:`camera_uniforms`). The sides are
-    planes through the camera, so a flat triangle with its three vertices beyond one of them is beyond it whole."""
-    forward = np.asarray(forward, dtype=float)
-    sides = [np.asarray(v, dtype=float) for v in (right, up)]
-    normals = np.stack([side / np.dot(side, side) - forward for v in sides for side in (v, -v)], axis=1)
-    # One bit per side for each vertex; a triangle is out when its three vertices share a bit.
-    beyond = ((dirs @ normals) > 0.0).astype(np.uint8) @ np.array([1, 2, 4, 8], np.uint8)
-    return (np.take(beyond, tris[:, 0]) & np.take(beyond, tris[:, 1]) & np.take(beyond, tris[:, 2])) == 0
-
-
-def _corners(tris):
-    """The three corner index columns of ``tris``, contiguous (np.take of those is several times faster than
-    fancy indexing, and the mesh is rebuilt every frame of a moving camera)."""
-    return [np.ascontiguousarray(tris[:, k]) for k in range(3)]
-
-
-def longest_edges(dirs, tris):
-    """(m,) the longest edge of each triangle as a chord between unit vectors (chord^2 = 2 - 2 cos)."""
-    a, b, c = (np.take(dirs, k, axis=0) for k in _corners(tris))
-    least_cos = np.minimum(np.minimum(np.einsum("ij,ij->i", a, b), np.einsum("ij,ij->i", b, c)),
-                           np.einsum("ij,ij->i", c, a))
-    return np.sqrt(np.maximum(2.0 - 2.0 * least_cos, 0.0))
-
-
-def may_meet_sphere(dirs, tris, camera, radius, edges=None):
-    """(m,) bool: the triangles of the direction mesh around ``camera`` that may contain rays meeting the sphere
-    of ``radius`` about the planet's centre (the ground, or the top of the atmosphere): a vertex inside the
-    sphere's cone, or within the largest distance [rad] by which a triangle's edge between two vertices outside
-    the cone can dip inside it (the edges are great-circle arcs, the cone's edge a small circle), plus 1e-3 rad.
-    ``edges``: :func:`longest_edges` of ``tris``, when the caller has them."""
-    camera = np.asarray(camera, dtype=float)
-    r = np.linalg.norm(camera)
-    if r <= radius:
-        return np.ones(len(tris), bool)
-    limb = math.asin(radius / r)
-    theta = np.arccos(np.clip(dirs @ (-camera / r), -1.0, 1.0))
-    corners = _corners(tris)
-    # The longest edge as half an azimuthal span on the cone's circle, then the dip of an arc of that span:
-    # tan(theta_mid) = tan(limb) cos(half span).
-    edges = longest_edges(dirs, tris) if edges is None else edges
-    half = np.arcsin(np.clip(edges / (2 * math.sin(limb)), 0.0, 1.0))
-    dip = limb - np.arctan(math.tan(min(limb, math.pi / 2 - 1e-9)) * np.cos(half))
-    least_theta = np.minimum(np.minimum(np.take(theta, corners[0]), np.take(theta, corners[1])),
-                             np.take(theta, corners[2]))
-    return least_theta <= limb + dip + 1e-3
-
-
-def may_meet_disc(dirs, tris, direction, radius, edges=None):
-    """(m,) bool: the triangles that may contain directions within ``radius`` [rad] of the unit ``direction``
-    (the sun's disc): any point of a triangle lies within its longest edge of a vertex, so a triangle meeting
-    the disc has a vertex within ``radius`` + that edge (as angles, plus 1e-3 rad)."""
-    corners = _corners(tris)
-    cos_to = np.clip(dirs @ np.asarray(direction, dtype=float), -1.0, 1.0)
-    nearest = np.maximum(np.maximum(np.take(cos_to, corners[0]), np.take(cos_to, corners[1])),
-                         np.take(cos_to, corners[2]))
-    edges = longest_edges(dirs, tris) if edges is None else edges
-    reach = radius + 2.0 * np.arcsin(np.minimum(edges / 2.0, 1.0)) + 1e-3
-    return np.arccos(nearest) <= reach
-
-
 def _points(points):
     pts = vtkPoints()
-    pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=True))
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float32), deep=True))
     return pts
+
+
+@functools.lru_cache(maxsize=4)
+def grid_points(n_t, n_p):
+    """vtkPoints of the vertices (i, j, 0) of a mesh of ``n_t`` rings and ``n_p`` sectors, in the order of
+    :func:`ring_triangles` (kept: the same object, hence the same vertex buffer, for every frame with as many rings
+    and sectors)."""
+    i, j = np.meshgrid(np.arange(n_t), np.arange(n_p), indexing="ij")
+    return _points(np.stack([i, j, np.zeros_like(i)], axis=-1).reshape(-1, 3))
 
 
 def _polydata(points, cells, kind):
@@ -181,7 +226,7 @@ def _polydata(points, cells, kind):
 
 class DirectionMeshActor:
     """A VTK actor drawing the direction mesh around the renderer's active camera, its vertex shader calling
-    ``vertex_call`` on each vertex position (``vertex_code`` declares it) and its fragment shader writing
+    ``vertex_call`` on each vertex's unit direction (``vertex_code`` declares it) and its fragment shader writing
     ``fragment_call`` (declared by ``fragment_code``).
 
     ``split_at_limb``: draw the triangles that may contain rays to the ground and the others (sky only) as two
@@ -203,6 +248,8 @@ class DirectionMeshActor:
         self._mesh_key = self._frame_key = None
         self.mappers, actors, self._stores = [], [], []
         static = self.static_uniforms()
+        mesh_code = (f"#define MESH_RINGS {MESH_RINGS}\n#define MESH_SECTORS {MESH_SECTORS}\n"
+                     + shader_code("direction_mesh.glsl"))
         for prefix in (("const bool sky_part = false;\n", "const bool sky_part = true;\n") if split_at_limb
                        else ("",)):
             mapper = vtkPolyDataMapper()
@@ -212,9 +259,11 @@ class DirectionMeshActor:
             actor.GetProperty().SetPointSize(1)
             sp = actor.GetShaderProperty()
             sp.AddVertexShaderReplacement("//VTK::PositionVC::Dec", True,
-                                          "//VTK::PositionVC::Dec\n" + prefix + vertex_code, False)
+                                          "//VTK::PositionVC::Dec\n" + prefix + mesh_code + vertex_code, False)
             sp.AddVertexShaderReplacement("//VTK::PositionVC::Impl", True,
-                                          f"//VTK::PositionVC::Impl\n  {vertex_call}(vertexMC.xyz);\n"
+                                          "//VTK::PositionVC::Impl\n  vec3 mesh_dir = mesh_direction(vertexMC.xyz);\n"
+                                          f"  {vertex_call}(mesh_dir);\n"
+                                          "  gl_Position = MCDCMatrix * vec4(mesh_dir, 0.0);\n"
                                           "  gl_Position.z = 0.0;  // mid-depth: no far-plane or depth-format "
                                           "quantisation\n", False)
             sp.AddFragmentShaderReplacement("//VTK::Light::Dec", True, prefix + fragment_code, False)
@@ -233,6 +282,11 @@ class DirectionMeshActor:
                 self.actor.AddPart(actor)
         else:
             self.actor = actors[0]
+        # The vertices hold ring and sector indices, not positions: their bounds mean nothing, so the actor takes
+        # no part in the clipping range, and the renderer's frustum culler, which judges props by their bounds,
+        # is removed (it would drop the mesh whenever the planet's centre is out of view).
+        self.actor.SetUseBounds(False)
+        renderer.GetCullers().RemoveAllItems()
         self._observers = [renderer.AddObserver(vtkCommand.StartEvent, self._start_frame)]
 
     def release(self):
@@ -258,47 +312,46 @@ class DirectionMeshActor:
             return
         self._frame_key = key
         view = camera_uniforms(self.renderer)
-        self._update_mesh(view)
-        frame = self.frame_uniforms(view)
+        frame = {**self._update_mesh(view), **self.frame_uniforms(view)}
         for store in self._stores:
             store.update(frame)
 
     def _update_mesh(self, view):
+        """Hand the mappers the triangles (or points) of the next frame; return the mesh's uniforms (none where
+        the mesh is as it was)."""
         cam = view["camera_position"][1]
         key = (tuple(cam), tuple(self.sun_direction), None if self.directions is None else id(self.directions),
                tuple(np.concatenate([view[name][1] for name in ("camera_forward", "camera_right", "camera_up")])))
         if key == self._mesh_key:
-            return
+            return {}
         self._mesh_key = key
-        distance = max(1e6, 1e-2 * np.linalg.norm(cam))
         if self.directions is not None:
-            points = _points(cam + distance * self.directions)
+            points = _points(self.directions)
             parts = [_polydata(points, np.arange(len(self.directions))[:, None], "verts"),
                      _polydata(points, np.zeros((0, 3), np.int64), "polys")]
+            uniforms = {"mesh_from_grid": ("i", 0)}
         else:
             bottom = self.atmosphere.bottom_radius_m
             tan_up, height = np.linalg.norm(view["camera_up"][1]), view["viewport"][1][3]
-            dirs, tris = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m,
-                                        pixel=2.0 * math.atan(tan_up) / max(height, 1.0))
-            tris = tris[in_view(dirs, tris, *(view[name][1] for name in ("camera_forward", "camera_right",
-                                                                          "camera_up")))]
+            mesh = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m,
+                                  pixel=2.0 * math.atan(tan_up) / max(height, 1.0))
             # Rays that miss the atmosphere and the sun's disc stay black, the background's colour: their
-            # triangles are not drawn (from space, most of the frame).
+            # quads are not drawn (from space, most of the frame).
             sun_radius = math.radians(self.atmosphere.star.angular_radius_deg())
-            edges = longest_edges(dirs, tris)             # shared by the three tests (rebuilt on every move)
-            seen = (may_meet_sphere(dirs, tris, cam, self.atmosphere.top_radius_m, edges)
-                    | may_meet_disc(dirs, tris, self.sun_direction / np.linalg.norm(self.sun_direction),
-                                    sun_radius, edges))
-            tris, edges = tris[seen], edges[seen]
-            points = _points(cam + distance * dirs)
+            drawn = (mesh.in_view(*(view[name][1] for name in ("camera_forward", "camera_right", "camera_up")))
+                     & (mesh.may_meet_sphere(cam, self.atmosphere.top_radius_m)
+                        | mesh.may_meet_disc(self.sun_direction / np.linalg.norm(self.sun_direction), sun_radius)))
+            points = grid_points(len(mesh.theta), len(mesh.phi))
             if self.split_at_limb:
-                ground = may_meet_sphere(dirs, tris, cam, bottom, edges)
-                parts = [_polydata(points, tris[ground], "polys"), _polydata(points, tris[~ground], "polys")]
+                ground = mesh.may_meet_sphere(cam, bottom)
+                parts = [_polydata(points, mesh.triangles_of(drawn & ground), "polys"),
+                         _polydata(points, mesh.triangles_of(drawn & ~ground), "polys")]
             else:
-                parts = [_polydata(points, tris, "polys")]
+                parts = [_polydata(points, mesh.triangles_of(drawn), "polys")]
+            uniforms = mesh.uniforms()
         for mapper, part in zip(self.mappers, parts):
             mapper.SetInputData(part)
-        self.renderer.ResetCameraClippingRange()
+        return uniforms
 
     def _shader_observer(self, store):
         """The observer of one part's UpdateShaderEvent: its array uniforms and the textures, for each draw."""

@@ -107,8 +107,8 @@ class UniformStore:
 
     Single values go to the shader property's custom uniforms (``vtkUniforms``), which VTK sets in C++ before
     each draw: the constants are written once, the camera and the sun once per frame. Arrays (kinds 1fv, 3fv,
-    4fv: all constants) are kept as float32 buffers and set on the program by :meth:`set_arrays` for each draw,
-    because ``vtkUniforms``' Python wrapping cannot take arrays of vectors (the overloads of its generic setter
+    4fv) are kept as float32 buffers and set on the program by :meth:`set_arrays` at the first draw after they
+    changed, because ``vtkUniforms``' Python wrapping cannot take arrays of vectors (the overloads of its generic setter
     are ambiguous from Python).
 
     The shader code (shaders/*.glsl) declares and documents every uniform itself, so VTK's own declarations
