@@ -79,12 +79,23 @@ class DirectionMesh:
     def __init__(self, theta, phi, down, e1, e2):
         self.theta, self.phi = theta, phi
         self.down, self.e1, self.e2 = down, e1, e2
-        st, ct = np.sin(theta)[:, None, None], np.cos(theta)[:, None, None]
-        around = np.cos(phi)[None, :, None] * e1 + np.sin(phi)[None, :, None] * e2
-        self.grid = ct * down + st * around                           # (n_t, n_p, 3)
-        self.directions = self.grid.reshape(-1, 3)
+        self._sin_theta, self._cos_theta = np.sin(theta), np.cos(theta)
+        self._sin_phi, self._cos_phi = np.sin(phi), np.cos(phi)
         self.triangles = ring_triangles(len(theta), len(phi))
         self.longest_edges = self._longest_edges()
+
+    @property
+    def directions(self):
+        """(n_t n_p, 3) the vertices' unit directions, ring after ring (the shader's mesh_direction)."""
+        return np.moveaxis(self.dots(np.eye(3)), 0, -1).reshape(-1, 3)
+
+    def dots(self, vectors):
+        """(k, n_t, n_p) each vertex's direction dotted with each of ``vectors`` (k, 3):
+        cos(theta) (down . v) + sin(theta) (cos(phi) (e1 . v) + sin(phi) (e2 . v))."""
+        v = np.asarray(vectors, dtype=float).reshape(-1, 3)
+        around = (self._cos_phi[None, None, :] * (v @ self.e1)[:, None, None]
+                  + self._sin_phi[None, None, :] * (v @ self.e2)[:, None, None])
+        return self._cos_theta[None, :, None] * (v @ self.down)[:, None, None] + self._sin_theta[None, :, None] * around
 
     def _longest_edges(self):
         """(n_t - 1, n_p) the longest chord between two corners of each quad (its sides and its diagonal, an
@@ -99,9 +110,9 @@ class DirectionMesh:
         return np.maximum(np.maximum(rings, sides), diagonal)
 
     def _corners(self, values):
-        """The four corners' ``values`` (n_t, n_p) of each quad: (a, b, c, d) each (n_t - 1, n_p)."""
-        ahead = np.roll(values, -1, axis=1)
-        return values[:-1], ahead[:-1], values[1:], ahead[1:]
+        """The four corners' ``values`` (..., n_t, n_p) of each quad: (a, b, c, d) each (..., n_t - 1, n_p)."""
+        ahead = np.roll(values, -1, axis=-1)
+        return values[..., :-1, :], ahead[..., :-1, :], values[..., 1:, :], ahead[..., 1:, :]
 
     def uniforms(self):
         """{name: (kind, value)} of shaders/direction_mesh.glsl for this mesh (the arrays padded with their last
@@ -123,10 +134,9 @@ class DirectionMesh:
         forward = np.asarray(forward, dtype=float)
         sides = [np.asarray(v, dtype=float) for v in (right, up)]
         normals = np.stack([side / np.dot(side, side) - forward for v in sides for side in (v, -v)], axis=1)
-        # One bit per side for each vertex; a quad is out when its four corners share a bit.
-        beyond = ((self.grid @ normals) > 0.0).astype(np.uint8) @ np.array([1, 2, 4, 8], np.uint8)
-        a, b, c, d = self._corners(beyond)
-        return ((a & b & c & d) == 0).ravel()
+        # A quad is out when its four corners are all beyond one of the four sides.
+        beyond = self._corners(self.dots(normals.T) > 0.0)
+        return ~np.any(beyond[0] & beyond[1] & beyond[2] & beyond[3], axis=0).ravel()
 
     def may_meet_sphere(self, camera, radius):
         """The quads that may contain rays from ``camera`` meeting the sphere of ``radius`` about the planet's
@@ -149,7 +159,7 @@ class DirectionMesh:
         """The quads that may contain directions within ``radius`` [rad] of the unit ``direction`` (the sun's
         disc): any point of a quad's triangles lies within the quad's longest chord of a corner, so a quad meeting
         the disc has a corner within ``radius`` + that chord (as angles, plus 1e-3 rad)."""
-        cos_to = np.clip(self.grid @ np.asarray(direction, dtype=float), -1.0, 1.0)
+        cos_to = np.clip(self.dots(direction)[0], -1.0, 1.0)
         a, b, c, d = self._corners(cos_to)
         nearest = np.maximum(np.maximum(a, b), np.maximum(c, d))
         reach = radius + 2.0 * np.arcsin(np.minimum(self.longest_edges / 2.0, 1.0)) + 1e-3
@@ -212,16 +222,21 @@ def grid_points(n_t, n_p):
     return _points(np.stack([i, j, np.zeros_like(i)], axis=-1).reshape(-1, 3))
 
 
-def _polydata(points, cells, kind):
-    """Polydata of ``cells`` (polygons or vertices) over the shared vtkPoints ``points``."""
-    poly = vtkPolyData()
-    poly.SetPoints(points)
-    offsets = np.arange(len(cells) + 1, dtype=np.int64) * cells.shape[1]
+def _cell_array(cells):
+    """vtkCellArray of ``cells`` (m, k), each of k point ids."""
     arr = vtkCellArray()
-    arr.SetData(numpy_to_vtkIdTypeArray(offsets, deep=True),
-                numpy_to_vtkIdTypeArray(np.ascontiguousarray(cells, dtype=np.int64).ravel(), deep=True))
-    (poly.SetPolys if kind == "polys" else poly.SetVerts)(arr)
-    return poly
+    arr.SetData(cells.shape[1], numpy_to_vtkIdTypeArray(np.ascontiguousarray(cells, dtype=np.int64).ravel(), deep=True))
+    return arr
+
+
+def _set_cells(poly, points, cells, kind):
+    """Make ``poly`` ``cells`` (polygons or vertices) over ``points``; the same polydata from frame to frame, so
+    that VTK keeps its vertex buffer while ``points`` stays the same object."""
+    if poly.GetPoints() is not points:
+        poly.SetPoints(points)
+    empty = np.zeros((0, 3 if kind == "verts" else 1), np.int64)
+    poly.SetPolys(_cell_array(cells if kind == "polys" else empty))
+    poly.SetVerts(_cell_array(cells if kind == "verts" else empty))
 
 
 class DirectionMeshActor:
@@ -246,7 +261,7 @@ class DirectionMeshActor:
         self.split_at_limb = split_at_limb
         self.settings = settings or DisplaySettings()
         self._mesh_key = self._frame_key = None
-        self.mappers, actors, self._stores = [], [], []
+        self.mappers, actors, self._stores, self._polys = [], [], [], []
         static = self.static_uniforms()
         mesh_code = (f"#define MESH_RINGS {MESH_RINGS}\n#define MESH_SECTORS {MESH_SECTORS}\n"
                      + shader_code("direction_mesh.glsl"))
@@ -254,6 +269,9 @@ class DirectionMeshActor:
                        else ("",)):
             mapper = vtkPolyDataMapper()
             mapper.SetVBOShiftScaleMethod(0)
+            poly = vtkPolyData()
+            mapper.SetInputData(poly)
+            self._polys.append(poly)
             actor = vtkActor()
             actor.SetMapper(mapper)
             actor.GetProperty().SetPointSize(1)
@@ -327,30 +345,29 @@ class DirectionMeshActor:
         self._mesh_key = key
         if self.directions is not None:
             points = _points(self.directions)
-            parts = [_polydata(points, np.arange(len(self.directions))[:, None], "verts"),
-                     _polydata(points, np.zeros((0, 3), np.int64), "polys")]
+            parts = [(np.arange(len(self.directions))[:, None], "verts"), (np.zeros((0, 3), np.int64), "polys")]
             uniforms = {"mesh_from_grid": ("i", 0)}
         else:
             bottom = self.atmosphere.bottom_radius_m
             tan_up, height = np.linalg.norm(view["camera_up"][1]), view["viewport"][1][3]
             mesh = direction_mesh(cam, self.sun_direction, bottom, self.atmosphere.top_radius_m,
                                   pixel=2.0 * math.atan(tan_up) / max(height, 1.0))
-            # Rays that miss the atmosphere and the sun's disc stay black, the background's colour: their
-            # quads are not drawn (from space, most of the frame).
-            sun_radius = math.radians(self.atmosphere.star.angular_radius_deg())
-            drawn = (mesh.in_view(*(view[name][1] for name in ("camera_forward", "camera_right", "camera_up")))
-                     & (mesh.may_meet_sphere(cam, self.atmosphere.top_radius_m)
-                        | mesh.may_meet_disc(self.sun_direction / np.linalg.norm(self.sun_direction), sun_radius)))
+            drawn = mesh.in_view(*(view[name][1] for name in ("camera_forward", "camera_right", "camera_up")))
+            if np.linalg.norm(cam) > self.atmosphere.top_radius_m:
+                # From space, rays that miss the atmosphere and the sun's disc stay black, the background's
+                # colour: their quads are not drawn (most of the frame).
+                sun_radius = math.radians(self.atmosphere.star.angular_radius_deg())
+                drawn &= (mesh.may_meet_sphere(cam, self.atmosphere.top_radius_m)
+                          | mesh.may_meet_disc(self.sun_direction / np.linalg.norm(self.sun_direction), sun_radius))
             points = grid_points(len(mesh.theta), len(mesh.phi))
             if self.split_at_limb:
                 ground = mesh.may_meet_sphere(cam, bottom)
-                parts = [_polydata(points, mesh.triangles_of(drawn & ground), "polys"),
-                         _polydata(points, mesh.triangles_of(drawn & ~ground), "polys")]
+                parts = [(mesh.triangles_of(drawn & ground), "polys"), (mesh.triangles_of(drawn & ~ground), "polys")]
             else:
-                parts = [_polydata(points, mesh.triangles_of(drawn), "polys")]
+                parts = [(mesh.triangles_of(drawn), "polys")]
             uniforms = mesh.uniforms()
-        for mapper, part in zip(self.mappers, parts):
-            mapper.SetInputData(part)
+        for poly, (cells, kind) in zip(self._polys, parts):
+            _set_cells(poly, points, cells, kind)
         return uniforms
 
     def _shader_observer(self, store):
