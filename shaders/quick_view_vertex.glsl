@@ -2,8 +2,8 @@
 // view.glsl).
 // The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction of a
 // vertex of the direction mesh (direction_mesh.glsl), L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i
-// plus the sunlit ground, with the midpoint rule on (i / n)^view_exponent and each optical depth on
-// (j / m)^density_exponent. With multiple_scattering = 1, the orders above the first from Hillaire's table
+// plus the sunlit ground, with the midpoint rule on the intervals of view_edges and each optical depth on those of
+// density_edges. With multiple_scattering = 1, the orders above the first from Hillaire's table
 // Psi_ms(h, mu_s) (planetviz/quick_view/multiple_scattering.py): sum_i Delta_i beta_s(h_i) Psi_ms
 // exp(-tau(x, p_i)), and the sky's irradiance on the ground E_sky(mu_s) added to the sun's. The ground's light is
 // output per unit of the surface colour and split by the sun's cosine, as atmosphere_vertex.glsl does, for
@@ -12,14 +12,14 @@
 // Uniforms: those of view.glsl (the camera, the sun, the output channels, the albedo), and
 //   view_samples           int    n, points on the view path
 //   density_samples        int    m, points on each optical-depth path
-//   view_exponent          float  3 (the paper's power law) or 1 (equidistant)
-//   density_exponent       float  2 (the paper's power law) or 1 (equidistant)
+//   view_edges             float[MAX_SAMPLES + 1]  the edges (i / n)^e of the view path's intervals, i = 0 .. n
+//                                 (e = 3, the paper's power law, or 1, equidistant)
+//   density_edges          float[MAX_SAMPLES + 1]  the same (j / m)^e of an optical-depth path (e = 2 or 1)
 //   rayleigh_scattering    vec4[MAX_GROUPS]  beta_R^s at the ground [1/m]
 //   mie_scattering         vec4[MAX_GROUPS]  beta_M^s at the ground [1/m]
-//   component_count        int    extinction components (Rayleigh, Mie, then absorbers), at most MAX_COMPONENTS
 //   component_extinction   vec4[MAX_COMPONENTS * MAX_GROUPS]  [k * MAX_GROUPS + g]: extinction of component k [1/m]
-//   component_profile      vec3[MAX_COMPONENTS]  (0, scale height, 0) exponential; (1, centre, half width) tent;
-//                                 (2, top altitude, 0) tabulated in component_table[k] at PROFILE_TABLE_SIZE
+//   component_profile      vec3[MAX_COMPONENTS]  (scale height, 0, 0) exponential; (centre, half width, 0) tent;
+//                                 (top altitude, 0, 0) tabulated in component_table[k] at PROFILE_TABLE_SIZE
 //                                 altitudes from 0 to the top, read linearly
 //   component_table        float[MAX_COMPONENTS * PROFILE_TABLE_SIZE]
 //   artistic_terms         int    1: Table 1's phases 1 + 0.5 nu^2 and HG without 1 / (4 pi) (coefficients are
@@ -32,6 +32,12 @@
 //   ground_sky_texture     sampler2D  E_sky [per unit solar irradiance] over mu_s = sign(x) x^2, x uniform in
 //                                 [-1, 1] (GROUND_SKY_COLUMNS columns), one row per group
 //   multiple_scattering_size  vec2  (n_mu_s, n_h) of multiple_scattering_texture
+// Constants, defined before this file (planetviz/render/quick_view_actor.py shader_constants): MAX_COMPONENTS,
+// PROFILE_TABLE_SIZE, MAX_SAMPLES, the profile kinds, and from the atmosphere, so that the loops over the components unroll and each evaluates its own profile only (a
+// software renderer runs both sides of a branch, even one on a uniform):
+//   component_count        int    extinction components (Rayleigh, Mie, then absorbers), at most MAX_COMPONENTS
+//   component_kinds        int[MAX_COMPONENTS]  each component's profile: EXPONENTIAL_PROFILE, TENT_PROFILE or
+//                                 TABULATED_PROFILE
 // Outputs (output channels as output_mode says), interpolated over the triangles:
 //   quick_view_value   vec3  the inscatter (aerial perspective for ground rays)
 //   quick_ground_sky   mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
@@ -43,16 +49,12 @@
 // (planetviz/render/direction_mesh.py) is true in the part of the mesh whose rays all miss the ground, where the
 // ground's terms are left out.
 
-#define MAX_COMPONENTS 6
-#define PROFILE_TABLE_SIZE 64
-
 uniform int view_samples;
 uniform int density_samples;
-uniform float view_exponent;
-uniform float density_exponent;
+uniform float view_edges[MAX_SAMPLES + 1];
+uniform float density_edges[MAX_SAMPLES + 1];
 uniform vec4 rayleigh_scattering[MAX_GROUPS];
 uniform vec4 mie_scattering[MAX_GROUPS];
-uniform int component_count;
 uniform vec4 component_extinction[MAX_COMPONENTS * MAX_GROUPS];
 uniform vec3 component_profile[MAX_COMPONENTS];
 uniform float component_table[MAX_COMPONENTS * PROFILE_TABLE_SIZE];
@@ -70,9 +72,9 @@ out mat3 quick_ground_sun;
 float profile_density(int k, float h) {
     vec3 p = component_profile[k];
     h = max(h, 0.0);
-    if (p.x == 0.0) return exp(-h / p.y);
-    if (p.x == 1.0) return max(0.0, 1.0 - abs(h - p.y) / p.z);
-    float x = clamp(h / p.y, 0.0, 1.0) * float(PROFILE_TABLE_SIZE - 1);
+    if (component_kinds[k] == EXPONENTIAL_PROFILE) return exp(-h / p.x);
+    if (component_kinds[k] == TENT_PROFILE) return max(0.0, 1.0 - abs(h - p.x) / p.y);
+    float x = clamp(h / p.x, 0.0, 1.0) * float(PROFILE_TABLE_SIZE - 1);
     int i = min(int(x), PROFILE_TABLE_SIZE - 2);
     float f = x - float(i);
     return mix(component_table[k * PROFILE_TABLE_SIZE + i], component_table[k * PROFILE_TABLE_SIZE + i + 1], f);
@@ -100,15 +102,11 @@ vec4 ground_sky_irradiance(float mu_s, int g) {
     return texture(ground_sky_texture, vec2((x + 0.5) / n, (float(g) + 0.5) / float(group_count)));
 }
 
-// Edges (i / n)^e of the midpoint rule.
-float sample_edge(int i, int n, float e) { return pow(float(i) / float(n), e); }
-
-// tau of group g along start + t direction, 0 <= t <= len, midpoint rule at (j / m)^density_exponent.
+// tau of group g along start + t direction, 0 <= t <= len, midpoint rule on density_edges.
 vec4 path_optical_depth(vec3 start, vec3 direction, float len, int g) {
     vec4 tau = vec4(0.0);
     for (int j = 0; j < density_samples; ++j) {
-        float a = sample_edge(j, density_samples, density_exponent);
-        float b = sample_edge(j + 1, density_samples, density_exponent);
+        float a = density_edges[j], b = density_edges[j + 1];
         float h = length(start + (0.5 * (a + b) * len) * direction) - bottom_radius;
         vec4 ext = vec4(0.0);
         for (int k = 0; k < component_count; ++k) {
@@ -168,8 +166,7 @@ vec4 quick_view_inscatter(vec3 v, int g) {
     }
     vec4 l = vec4(0.0);
     for (int i = 0; i < view_samples; ++i) {
-        float a = sample_edge(i, view_samples, view_exponent);
-        float b = sample_edge(i + 1, view_samples, view_exponent);
+        float a = view_edges[i], b = view_edges[i + 1];
         float t = 0.5 * (a + b) * path;
         vec3 p = x + t * v;
         float h = length(p) - bottom_radius;

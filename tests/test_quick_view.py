@@ -72,6 +72,29 @@ def test_vertex_shader_matches_its_numpy_twin(quick, view):
     assert np.max(np.abs(got - want)[seen] / np.maximum(want, floor)[seen]) < 2e-3
 
 
+def test_each_kind_of_density_profile_matches_the_numpy_twin():
+    # The shader is compiled for the atmosphere's profile kinds (quick_view_actor.shader_constants): the Earth
+    # preset's ozone is a tent (the test above), the advanced Earth's a table beside exponential layers. Same sums,
+    # same bound as above.
+    atm = load_atmosphere("earth-advanced")
+    scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=SIZE, method="quick",
+                  quick_orders="single")
+    try:
+        scene.view_from_ground(latitude=20, altitude=2.0, heading=80, pitch=5, fov=70)
+        scene.set_sun(elevation=15, azimuth=100, latitude=20, longitude=0)
+        rows, cols = np.meshgrid(np.arange(1, SIZE[1], 4), np.arange(1, SIZE[0], 5), indexing="ij")
+        dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
+        scene.quick.directions = dirs
+        got = scene.render_hdr().radiance[rows, cols].reshape(-1, 3)
+        want, _ = quick_view_radiance(atm, np.tile(scene.camera_location, (len(dirs), 1)), dirs,
+                                      scene.sun_direction, samples=scene.quick_samples)
+    finally:
+        scene.close()
+    seen = want.max(-1) > 0
+    assert seen.sum() > 50
+    assert np.max(np.abs(got - want)[seen] / want[seen]) < 2e-3
+
+
 def test_the_mesh_is_dense_around_the_sun_and_straddles_the_horizon():
     atm = load_atmosphere("earth")
     R = atm.bottom_radius_m

@@ -35,6 +35,8 @@ from ..reference.optical_depth import shell_segment
 #: Exponents of the sample positions (i / n)^e: the scattering integral, the optical depths.
 SAMPLING = {"power": (3.0, 2.0), "equidistant": (1.0, 1.0)}
 TERMS = ("physical", "artistic")
+#: The most points on a path (view or optical depth).
+MAX_SAMPLES = 256
 
 
 def check_settings(samples, density_samples=None, sampling="power", terms="physical"):
@@ -44,8 +46,8 @@ def check_settings(samples, density_samples=None, sampling="power", terms="physi
     if terms not in TERMS:
         raise ValueError(f"terms: one of {', '.join(TERMS)}, got {terms!r}")
     for name, value in (("samples", samples), ("density_samples", density_samples)):
-        if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= 256):
-            raise ValueError(f"{name}: an integer in [1, 256], got {value!r}")
+        if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= MAX_SAMPLES):
+            raise ValueError(f"{name}: an integer in [1, {MAX_SAMPLES}], got {value!r}")
     return int(samples), int(density_samples or samples)
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..quick_view.multiple_scattering import GROUND_SKY_COLUMNS, MS_SIZE, ORDERS, quick_view_tables
-from ..quick_view.single_scattering import SAMPLING, coefficients, check_settings
+from ..quick_view.single_scattering import MAX_SAMPLES, SAMPLING, check_settings, coefficients
 from .background import BackgroundJob
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
@@ -27,6 +27,32 @@ from .uniforms import atmosphere_uniforms, draw_uniforms, groups_array
 
 MAX_COMPONENTS = 6
 PROFILE_TABLE_SIZE = 64
+#: The shader's constants for the kinds of density profile (component_kinds).
+PROFILE_KINDS = {"ExponentialProfile": 0, "TentProfile": 1}
+TABULATED_PROFILE = 2
+
+
+def shader_constants(extinction):
+    """The constants of shaders/quick_view_vertex.glsl for the extinction components [(coefficients, profile), ...]:
+    the arrays' sizes, the components' count and the kind of each one's profile (tabulated for any kind but the
+    exponential and the tent), so that the shader's loops over the components unroll and each evaluates its own
+    profile only."""
+    kinds = [PROFILE_KINDS.get(type(profile).__name__, TABULATED_PROFILE) for _, profile in extinction]
+    kinds += [0] * (MAX_COMPONENTS - len(kinds))
+    defines = {"MAX_COMPONENTS": MAX_COMPONENTS, "PROFILE_TABLE_SIZE": PROFILE_TABLE_SIZE,
+               "MAX_SAMPLES": MAX_SAMPLES,
+               **{f"{name.removesuffix('Profile').upper()}_PROFILE": k for name, k in PROFILE_KINDS.items()},
+               "TABULATED_PROFILE": TABULATED_PROFILE}
+    return ("".join(f"#define {name} {value}\n" for name, value in defines.items())
+            + f"const int component_count = {len(extinction)};\n"
+            + f"const int component_kinds[MAX_COMPONENTS] = int[]({', '.join(map(str, kinds))});\n")
+
+
+def sample_edges(n, exponent):
+    """(MAX_SAMPLES + 1,) the edges (i / n)^exponent, i = 0 .. n, of a path's intervals (then zeros)."""
+    edges = np.zeros(MAX_SAMPLES + 1)
+    edges[:n + 1] = (np.arange(n + 1) / n) ** exponent
+    return edges
 #: The textures of the orders above the first, replaced when their table is ready.
 MULTIPLE_SCATTERING_TEXTURES = ("multiple_scattering_texture", "ground_sky_texture")
 
@@ -51,7 +77,13 @@ class QuickViewActor(DirectionMeshActor):
         self._textures, self._job, self._cube_image = {}, None, None
         if self.orders == "all":
             self._job = BackgroundJob(lambda: quick_view_tables(atmosphere))
-        super().__init__(atmosphere, renderer, shader_code("common.glsl", "view.glsl", "quick_view_vertex.glsl"),
+        _, _, extinction = coefficients(atmosphere, terms)
+        if len(extinction) > MAX_COMPONENTS:
+            raise ValueError(f"absorption: the quick view takes at most {MAX_COMPONENTS - 2} absorbing layers, "
+                             f"got {len(extinction) - 2}")
+        vertex_code = (shader_constants(extinction)
+                       + shader_code("common.glsl", "view.glsl", "quick_view_vertex.glsl"))
+        super().__init__(atmosphere, renderer, vertex_code,
                          "quick_view_vertex", shader_code("common.glsl", "view.glsl", "display.glsl", "pixel.glsl",
                                                           "quick_view_fragment.glsl"),
                          "quick_view_fragment", split_at_limb=True, settings=settings)
@@ -61,21 +93,18 @@ class QuickViewActor(DirectionMeshActor):
         atm = self.atmosphere
         G = group_count(atm.n_wavelengths)
         b_r, b_m, extinction = coefficients(atm, self.terms)
-        if len(extinction) > MAX_COMPONENTS:
-            raise ValueError(f"absorption: the quick view takes at most {MAX_COMPONENTS - 2} absorbing layers, "
-                             f"got {len(extinction) - 2}")
         ext = np.zeros((MAX_COMPONENTS, MAX_GROUPS, 4), np.float32)
         prof = np.zeros((MAX_COMPONENTS, 3), np.float32)
         table = np.zeros((MAX_COMPONENTS, PROFILE_TABLE_SIZE), np.float32)
         for k, (e, profile) in enumerate(extinction):
             ext[k, :G] = pad_groups(e)
-            kind = type(profile).__name__
-            if kind == "ExponentialProfile":
-                prof[k] = (0.0, profile.scale_height_m, 0.0)
-            elif kind == "TentProfile":
-                prof[k] = (1.0, profile.center_m, profile.half_width_m)
+            kind = PROFILE_KINDS.get(type(profile).__name__, TABULATED_PROFILE)
+            if kind == PROFILE_KINDS["ExponentialProfile"]:
+                prof[k] = (profile.scale_height_m, 0.0, 0.0)
+            elif kind == PROFILE_KINDS["TentProfile"]:
+                prof[k] = (profile.center_m, profile.half_width_m, 0.0)
             else:
-                prof[k] = (2.0, atm.thickness_m, 0.0)
+                prof[k] = (atm.thickness_m, 0.0, 0.0)
                 table[k] = profile.density(np.linspace(0.0, atm.thickness_m, PROFILE_TABLE_SIZE))
         per_group = lambda values: groups_array(pad_groups(values))
         e_view, e_depth = SAMPLING[self.sampling]
@@ -84,9 +113,9 @@ class QuickViewActor(DirectionMeshActor):
         return {
             **atmosphere_uniforms(atm),
             "view_samples": ("i", self.samples), "density_samples": ("i", self.density_samples),
-            "view_exponent": ("f", e_view), "density_exponent": ("f", e_depth),
+            "view_edges": ("1fv", sample_edges(self.samples, e_view)),
+            "density_edges": ("1fv", sample_edges(self.density_samples, e_depth)),
             "rayleigh_scattering": ("4fv", per_group(b_r)), "mie_scattering": ("4fv", per_group(b_m)),
-            "component_count": ("i", len(extinction)),
             "component_extinction": ("4fv", ext.reshape(-1, 4)),
             "component_profile": ("3fv", prof), "component_table": ("1fv", table.ravel()),
             "artistic_terms": ("i", int(self.terms == "artistic")),
