@@ -31,17 +31,18 @@
 //   path_opacity_texels      float      texels of each half of path_opacity_texture
 //   phase_irradiance_texture sampler2D  per group (blocks stacked along y) the outer product of the phases of the
 //                                       inscatter's four parts along x (phase_factor_table, at phase_factor_u) and
-//                                       the sky's irradiance on the ground along y (sky_irradiance_rows: the
-//                                       irradiance table's texels from phase_irradiance_rows.x on), each averaged
-//                                       over the group's wavelengths (planetviz/tables/inscatter_factor.py)
+//                                       the sky's irradiance on the ground along y (sky_irradiance_rows, on the
+//                                       rows of irradiance_rows), each averaged over the group's wavelengths
+//                                       (planetviz/tables/inscatter_factor.py)
 //   phase_factor_texels      float      texels of phase_irradiance_texture along x
-//   phase_irradiance_rows    vec2       (first texel of the irradiance table's mu_s axis, rows) of a group's block
+//   irradiance_rows          vec4       (mu_s of the first row, mu_s of the knee, the rows' step in mu_s below the
+//                                       knee, above it) of the rows of a group's block (irradiance_rows)
 
 uniform sampler2D path_opacity_texture;
 uniform float path_opacity_texels;
 uniform sampler2D phase_irradiance_texture;
 uniform float phase_factor_texels;
-uniform vec2 phase_irradiance_rows;
+uniform vec4 irradiance_rows;
 
 // The coordinate of path_opacity_texture of the ray (a, mu) (inscatter_factor.py's path_opacity_u): each half
 // uniform in the ray's length, to the ground or to the top.
@@ -80,11 +81,13 @@ float phase_factor_u(float nu) {
     return texcoord_from_unit_range(nu >= 0.0 ? t : 1.0 - t, phase_factor_texels);
 }
 
-// The y coordinate in a group's block of phase_irradiance_texture of the sun's cosine mu_s >= mu_s_min: the
-// irradiance table's texel coordinate (irradiance_uv_from_r_mu_s) less the block's first texel.
+// The y coordinate in a group's block of phase_irradiance_texture of the sun's cosine mu_s >= mu_s_min: its row
+// (inscatter_factor.py's irradiance_row_index) over the block's rows.
 float irradiance_v(float mu_s) {
-    float texel = texcoord_from_unit_range(mu_s * 0.5 + 0.5, irradiance_size.x) * irradiance_size.x - 0.5;
-    return (texel - phase_irradiance_rows.x + 0.5) / phase_irradiance_rows.y;
+    vec4 rows = irradiance_rows;
+    float index = (min(mu_s, rows.y) - rows.x) / rows.z + max(mu_s - rows.y, 0.0) / rows.w;
+    float block = float(textureSize(phase_irradiance_texture, 0).y) / float(group_count);
+    return (index + 0.5) / block;
 }
 
 // The texel of phase_irradiance_texture for the ray: its view-sun angle, and the sun's cosine at its ground point or

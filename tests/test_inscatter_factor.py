@@ -14,10 +14,13 @@ from conftest import draft_earth_tables
 from planetviz import load_atmosphere
 from planetviz.reference.optical_depth import optical_depth
 from planetviz.tables import QUALITY, precompute
-from planetviz.tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, path_opacity_altitude,
+from planetviz.tables.inscatter_factor import (IRRADIANCE_SUBROWS, PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS,
+                                               irradiance_row_index, irradiance_rows, path_opacity_altitude,
                                                path_opacity_rays, path_opacity_table, path_opacity_u, phase_factor_table,
-                                               phase_factor_u)
-from planetviz.tables.lookup import get_optical_depth, get_optical_depth_to_top_atmosphere_boundary, one_minus_exp
+                                               phase_factor_u, sky_irradiance_rows)
+from planetviz.tables.lookup import (get_irradiance, get_optical_depth, get_optical_depth_to_top_atmosphere_boundary,
+                                     one_minus_exp)
+from planetviz.tables.parameterization import MU_S_MIN
 from planetviz.tables.multiple import forward_factor
 from planetviz.tables.parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 from planetviz.validation.random_suite import random_atmosphere
@@ -130,3 +133,31 @@ def test_the_phase_table_reads_as_the_phase_functions(g1, g2, alpha):
                      forward_factor(atm, nu)], axis=-1)
     err = np.abs(got / want - 1.0)
     assert err.max() < TOLERANCE, err.max()
+
+
+@pytest.mark.parametrize("quality", ["draft", "standard"])
+def test_the_sky_irradiance_rows_read_as_the_irradiance_table(quality):
+    # The rows of the factor texture read linearly (the GPU's filtering) against get_irradiance, which the
+    # vertices' ground light uses. Above the first texel with the sun up both are the table's linear reading
+    # (the rows are its texels): equal. Below, the table is read geometrically, an exponential between two texels
+    # changing by q, and linear interpolation between rows 1/IRRADIANCE_SUBROWS of a texel apart, an exponential
+    # step of a = ln q / SUBROWS, overestimates it by at most (e^a - 1) / a e^(-a x) - 1 at x = 1/a - 1/(e^a - 1),
+    # q the steepest step of the table's texels there. Relative, floored at 1e-9 of the largest irradiance (the
+    # table falls to 0 deep in the night).
+    atm = load_atmosphere("earth") if quality == "standard" else random_atmosphere(100_004)
+    t = precompute(atm, QUALITY[quality], cache=None)
+    rows = irradiance_rows(t.irradiance.shape[1])
+    table = sky_irradiance_rows(t)
+    mu_s = np.linspace(MU_S_MIN, 1.0, 20001)
+    index = irradiance_row_index(mu_s, rows)
+    got = read_linear(table, (index + 0.5) / len(table))
+    want = get_irradiance(t, np.full(mu_s.shape, t.bottom), mu_s)
+    rel = np.abs(got - want) / np.maximum(want, 1e-9 * want.max())
+    first, knee, _, step = rows
+    texels = t.irradiance[0, int(round((first + 1.0) / step)):int(round((knee + 1.0) / step)) + 1]
+    q = np.max(np.maximum(texels[1:], 1e-300) / np.maximum(texels[:-1], 1e-300))
+    a = np.log(float(q)) / IRRADIANCE_SUBROWS
+    x = 1.0 / a - 1.0 / np.expm1(a)
+    bound = np.expm1(a) / a * np.exp(-a * x) - 1.0
+    assert np.max(rel[mu_s >= knee]) < 1e-6
+    assert np.max(rel[mu_s < knee]) < bound + 1e-6, (np.max(rel), bound)

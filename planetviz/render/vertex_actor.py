@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
-from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, path_opacity_altitude,
-                                       path_opacity_table, phase_factor_table, sky_irradiance_rows)
+from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, irradiance_rows,
+                                       path_opacity_altitude, path_opacity_table, phase_factor_table,
+                                       sky_irradiance_rows)
 from .atmosphere_actor import TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
@@ -30,12 +31,12 @@ class InscatterFactorTextures:
     def __init__(self, atmosphere, tables):
         self.atmosphere, self.tables = atmosphere, tables
         self.altitude = 0.0
-        self.first_row, self.irradiance = sky_irradiance_rows(tables)
+        self.irradiance = sky_irradiance_rows(tables)
         self._phase_irradiance = self._opacity = self._opacity_altitude = None
 
     def uniforms(self):
         return {"path_opacity_texels": ("f", PATH_OPACITY_TEXELS), "phase_factor_texels": ("f", PHASE_FACTOR_TEXELS),
-                "phase_irradiance_rows": ("2f", (self.first_row, len(self.irradiance)))}
+                "irradiance_rows": ("4f", irradiance_rows(self.tables.irradiance.shape[1]))}
 
     def set_camera_altitude(self, camera_altitude):
         """Follow the camera's altitude [m] (the uniform ``camera_altitude``)."""
@@ -74,7 +75,7 @@ def group_means(values):
 
 def phase_irradiance_image(atmosphere, rows):
     """``phase_irradiance_texture``, (G n_rows, n, 4): per group, the sky's irradiance on the ground ``rows``
-    (n_rows, W; :func:`sky_irradiance_rows`) times the phases of :func:`phase_factor_table` (n, W, 4), each averaged
+    (rows, W; :func:`sky_irradiance_rows`) times the phases of :func:`phase_factor_table` (n, W, 4), each averaged
     over the group's wavelengths."""
     phases = group_means(np.moveaxis(phase_factor_table(atmosphere, PHASE_FACTOR_TEXELS), 1, -1))   # (n, 4, G)
     irradiance = group_means(rows)                                                                  # (rows, G)

@@ -24,17 +24,22 @@ sqrt((1 - nu) / 2), c = cos(theta / 2) = sqrt((1 + nu) / 2), theta the view-sun 
 (1 - |g|) / (2 sqrt(|g|)) wide in s (forward) or c (backward), 19 texels for |g| = 0.95, where linear
 interpolation's error is below 2e-3.
 
-**Sky irradiance.** The sky's irradiance on the ground E(0, mu_s) at the irradiance table's own texel centres of
-mu_s that cover [MU_S_MIN, 1]: linear interpolation between them is the irradiance table's own reading there. The
-renderer stores the phases times this irradiance, an outer product, as one 2D texture: bilinear filtering of a
-product f(x) g(y) of two tables is the product of their linear interpolations, so one fetch reads both factors.
-At standard quality the texture takes 1.4 MB per group of four wavelengths (1024 x 86 texels).
+**Sky irradiance.** The sky's irradiance on the ground E(0, mu_s) as the tables read it (``get_irradiance``),
+on rows of mu_s from the irradiance table's last texel below MU_S_MIN to 1: the table's own texels where the
+texel above has the sun up (there the table is read linearly, so linear filtering between these rows is that
+reading exactly), and IRRADIANCE_SUBROWS rows per texel below (there the table is read geometrically, an
+exponential between texels, which linear filtering between rows 1/IRRADIANCE_SUBROWS of a texel apart follows
+within (ln q / IRRADIANCE_SUBROWS)^2 / 8 for a fall by q over the texel: 0.2% for the Earth's steepest, e^1 per
+standard texel, 0.9 deg). The renderer stores the phases times this irradiance, an outer product, as one 2D
+texture: bilinear filtering of a product f(x) g(y) of two tables is the product of their linear interpolations,
+so one fetch reads both factors. At standard quality the texture takes 4.6 MB per group of four wavelengths
+(1024 x 282 texels).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .lookup import get_optical_depth, get_optical_depth_to_top_atmosphere_boundary, one_minus_exp
+from .lookup import get_irradiance, get_optical_depth, get_optical_depth_to_top_atmosphere_boundary, one_minus_exp
 from .multiple import forward_factor
 from .parameterization import (MU_S_MIN, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, safe_sqrt, texcoord_from_unit_range,
@@ -44,6 +49,8 @@ from .parameterization import (MU_S_MIN, distance_to_bottom_atmosphere_boundary,
 PATH_OPACITY_TEXELS = 1024
 #: Texels of the phase table along u (module docstring), 0 .. 1.
 PHASE_FACTOR_TEXELS = 1024
+#: Rows of the sky irradiance per texel of the irradiance table where the sun is below the horizon.
+IRRADIANCE_SUBROWS = 8
 
 
 def path_opacity_altitude(camera_altitude, bottom, top):
@@ -113,10 +120,30 @@ def phase_factor_table(atm, n=PHASE_FACTOR_TEXELS):
                      forward_factor(atm, nu)], axis=-1)
 
 
+def irradiance_rows(n_mu_s):
+    """(mu_s of the first row, of the knee, the rows' step below the knee, above it) for an irradiance table of
+    ``n_mu_s`` texels (module docstring; texel i at mu_s = -1 + 2 i / (n_mu_s - 1)): the knee the first texel with
+    the sun up, rows IRRADIANCE_SUBROWS to a texel below it from the last texel below MU_S_MIN on, one per texel
+    above it."""
+    step = 2.0 / (n_mu_s - 1)
+    first = float(np.floor((MU_S_MIN + 1.0) / step))
+    knee = float(np.floor(1.0 / step)) + 1.0
+    return -1.0 + first * step, -1.0 + knee * step, step / IRRADIANCE_SUBROWS, step
+
+
+def irradiance_row_index(mu_s, rows):
+    """The row (a fractional index, 0 at the first row's centre) of the sun's cosine mu_s on ``rows``
+    (:func:`irradiance_rows`)."""
+    first, knee, below, above = rows
+    mu_s = np.asarray(mu_s, float)
+    return (np.minimum(mu_s, knee) - first) / below + np.maximum(mu_s - knee, 0.0) / above
+
+
 def sky_irradiance_rows(tables):
-    """(k0, E): the sky's irradiance on the ground E(0, mu_s) (n, W) at the irradiance table's mu_s texels
-    k0 .. k0 + n - 1, the least run whose centres cover mu_s in [MU_S_MIN, 1]."""
-    n_mu_s = tables.irradiance.shape[1]
-    texel = texcoord_from_unit_range(0.5 * np.array([MU_S_MIN, 1.0]) + 0.5, n_mu_s) * n_mu_s - 0.5
-    k0, k1 = max(int(np.floor(texel[0])), 0), min(int(np.ceil(texel[1])), n_mu_s - 1)
-    return k0, tables.irradiance[0, k0:k1 + 1]
+    """(rows, W) the sky's irradiance on the ground E(0, mu_s) (``get_irradiance``) on the rows of
+    :func:`irradiance_rows` for the tables' irradiance table."""
+    first, knee, below, above = rows = irradiance_rows(tables.irradiance.shape[1])
+    n_below = int(round((knee - first) / below))
+    n_above = int(round((1.0 - knee) / above)) + 1
+    mu_s = np.concatenate([first + below * np.arange(n_below), knee + above * np.arange(n_above)])
+    return get_irradiance(tables, np.full(mu_s.shape, tables.bottom), np.clip(mu_s, -1.0, 1.0))
