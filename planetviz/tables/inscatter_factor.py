@@ -29,11 +29,11 @@ on rows of mu_s from the irradiance table's last texel below MU_S_MIN to 1: the 
 texel above has the sun up (there the table is read linearly, so linear filtering between these rows is that
 reading exactly), and IRRADIANCE_SUBROWS rows per texel below (there the table is read geometrically, an
 exponential between texels, which linear filtering between rows 1/IRRADIANCE_SUBROWS of a texel apart follows
-within (ln q / IRRADIANCE_SUBROWS)^2 / 8 for a fall by q over the texel: 0.2% for the Earth's steepest, e^1 per
-standard texel, 0.9 deg). The renderer stores the phases times this irradiance, an outer product, as one 2D
-texture: bilinear filtering of a product f(x) g(y) of two tables is the product of their linear interpolations,
-so one fetch reads both factors. At standard quality the texture takes 4.6 MB per group of four wavelengths
-(1024 x 282 texels).
+within about (ln q / IRRADIANCE_SUBROWS)^2 / 8 for a change by q over the texel: 0.34% for the Earth's steepest,
+e^1.3 over a standard texel of 0.9 deg). The renderer stores the phases times this irradiance, an outer product,
+as one 2D texture: bilinear filtering of a product f(x) g(y) of two tables is the product of their linear
+interpolations, so one fetch reads both factors. At standard quality the texture takes 3.8 MB per group of four
+wavelengths (1024 x 232 texels).
 """
 from __future__ import annotations
 
