@@ -142,7 +142,7 @@ def irradiance_row_index(mu_s, rows):
 def sky_irradiance_rows(tables):
     """(rows, W) the sky's irradiance on the ground E(0, mu_s) (``get_irradiance``) on the rows of
     :func:`irradiance_rows` for the tables' irradiance table."""
-    first, knee, below, above = rows = irradiance_rows(tables.irradiance.shape[1])
+    first, knee, below, above = irradiance_rows(tables.irradiance.shape[1])
     n_below = int(round((knee - first) / below))
     n_above = int(round((1.0 - knee) / above)) + 1
     mu_s = np.concatenate([first + below * np.arange(n_below), knee + above * np.arange(n_above)])
