@@ -234,9 +234,11 @@ def _set_cells(poly, points, cells, kind):
     that VTK keeps its vertex buffer while ``points`` stays the same object."""
     if poly.GetPoints() is not points:
         poly.SetPoints(points)
-    empty = np.zeros((0, 3 if kind == "verts" else 1), np.int64)
-    poly.SetPolys(_cell_array(cells if kind == "polys" else empty))
-    poly.SetVerts(_cell_array(cells if kind == "verts" else empty))
+    setters = {"polys": (poly.GetPolys, poly.SetPolys), "verts": (poly.GetVerts, poly.SetVerts)}
+    setters[kind][1](_cell_array(cells))
+    get_other, set_other = setters["verts" if kind == "polys" else "polys"]
+    if get_other() is not None and get_other().GetNumberOfCells():       # emptied once, when the kind changes
+        set_other(vtkCellArray())
 
 
 class DirectionMeshActor:

@@ -27,21 +27,25 @@ from .uniforms import atmosphere_uniforms, draw_uniforms, groups_array
 
 MAX_COMPONENTS = 6
 PROFILE_TABLE_SIZE = 64
-#: The shader's constants for the kinds of density profile (component_kinds).
-PROFILE_KINDS = {"ExponentialProfile": 0, "TentProfile": 1}
-TABULATED_PROFILE = 2
+#: The shader's constants for the kinds of density profile (component_kinds): any profile but the exponential and
+#: the tent is read from a table.
+EXPONENTIAL_PROFILE, TENT_PROFILE, TABULATED_PROFILE = 0, 1, 2
+
+
+def profile_kind(profile):
+    """The shader's kind of a density profile."""
+    return {"ExponentialProfile": EXPONENTIAL_PROFILE, "TentProfile": TENT_PROFILE}.get(type(profile).__name__,
+                                                                                         TABULATED_PROFILE)
 
 
 def shader_constants(extinction):
     """The constants of shaders/quick_view_vertex.glsl for the extinction components [(coefficients, profile), ...]:
-    the arrays' sizes, the components' count and the kind of each one's profile (tabulated for any kind but the
-    exponential and the tent), so that the shader's loops over the components unroll and each evaluates its own
-    profile only."""
-    kinds = [PROFILE_KINDS.get(type(profile).__name__, TABULATED_PROFILE) for _, profile in extinction]
-    kinds += [0] * (MAX_COMPONENTS - len(kinds))
+    the arrays' sizes, the profile kinds, the components' count and the kind of each one's profile, so that the
+    shader's loops over the components unroll and each evaluates its own profile only."""
+    kinds = [profile_kind(profile) for _, profile in extinction]
+    kinds += [EXPONENTIAL_PROFILE] * (MAX_COMPONENTS - len(kinds))
     defines = {"MAX_COMPONENTS": MAX_COMPONENTS, "PROFILE_TABLE_SIZE": PROFILE_TABLE_SIZE,
-               "MAX_SAMPLES": MAX_SAMPLES,
-               **{f"{name.removesuffix('Profile').upper()}_PROFILE": k for name, k in PROFILE_KINDS.items()},
+               "MAX_SAMPLES": MAX_SAMPLES, "EXPONENTIAL_PROFILE": EXPONENTIAL_PROFILE, "TENT_PROFILE": TENT_PROFILE,
                "TABULATED_PROFILE": TABULATED_PROFILE}
     return ("".join(f"#define {name} {value}\n" for name, value in defines.items())
             + f"const int component_count = {len(extinction)};\n"
@@ -53,6 +57,8 @@ def sample_edges(n, exponent):
     edges = np.zeros(MAX_SAMPLES + 1)
     edges[:n + 1] = (np.arange(n + 1) / n) ** exponent
     return edges
+
+
 #: The textures of the orders above the first, replaced when their table is ready.
 MULTIPLE_SCATTERING_TEXTURES = ("multiple_scattering_texture", "ground_sky_texture")
 
@@ -98,10 +104,10 @@ class QuickViewActor(DirectionMeshActor):
         table = np.zeros((MAX_COMPONENTS, PROFILE_TABLE_SIZE), np.float32)
         for k, (e, profile) in enumerate(extinction):
             ext[k, :G] = pad_groups(e)
-            kind = PROFILE_KINDS.get(type(profile).__name__, TABULATED_PROFILE)
-            if kind == PROFILE_KINDS["ExponentialProfile"]:
+            kind = profile_kind(profile)
+            if kind == EXPONENTIAL_PROFILE:
                 prof[k] = (profile.scale_height_m, 0.0, 0.0)
-            elif kind == PROFILE_KINDS["TentProfile"]:
+            elif kind == TENT_PROFILE:
                 prof[k] = (profile.center_m, profile.half_width_m, 0.0)
             else:
                 prof[k] = (atm.thickness_m, 0.0, 0.0)
