@@ -4,12 +4,14 @@
 // passes each vertex's F beside its inscatter, and atmosphere_interpolated.glsl multiplies the interpolated
 // inscatter by F at the pixel over the interpolated F: the interpolation then only has to follow the inscatter's
 // ratio to F, which changes slowly.
-// - path opacity: 1 - T of the ray from x to where it leaves the atmosphere or meets the ground (averaged over the
-//   first output group's wavelengths): along the limb's halo, the horizon and the aerial perspective the inscatter
-//   grows with the ray's optical depth (the tables' sky half holds S / (1 - T) for the same reason, table_lookup.glsl
-//   ray_opacity). Every ray of the frame starts at the same altitude, so it is read from a 1D table of mu made for
-//   that altitude on the CPU (planetviz/tables/inscatter_factor.py): one fetch instead of the 2D optical-depth
-//   table's two for a ground ray;
+// - path opacity: the scattering opacity of the ray from x to where it leaves the atmosphere or meets the ground,
+//   the integral of beta_scat T along it (its opacity 1 - T times the share of that opacity which scatters; averaged
+//   over the first output group's wavelengths): along the limb's halo, the horizon and the aerial perspective the
+//   inscatter grows with it (the tables' sky half holds S / (1 - T) for the same reason, table_lookup.glsl
+//   ray_opacity), while an absorbing layer (ozone) raises 1 - T and not the inscatter. Every ray of the frame starts
+//   at the same altitude, so it is read from a 1D table of mu made for that altitude on the CPU
+//   (planetviz/tables/inscatter_factor.py), beside the ray's opacity 1 - T for the ground's light: one fetch
+//   instead of the 2D optical-depth table's two for a ground ray;
 // - sky irradiance: E(0, mu_s), the sky's irradiance on the ground for the sun's cosine mu_s at the ray's ground
 //   point, or at its point nearest the planet's centre (held at mu_s_min below the tables' range): over the
 //   ground's twilight band seen from space and along the limb over the terminator the inscatter falls with the
@@ -25,9 +27,11 @@
 // (a software renderer runs both sides of a branch).
 //
 // Uniforms:
-//   path_opacity_texture     sampler2D  path_opacity_table (planetviz/tables/inscatter_factor.py) at the frame's
-//                                       ray altitude: 2 path_opacity_texels wide (the rays to the ground, then the
-//                                       others), the G groups stacked along y
+//   path_opacity_texture     sampler2D  one row 2 path_opacity_texels wide (the rays to the ground, then the
+//                                       others) at the frame's ray altitude: the first group's means of
+//                                       path_opacity_table (x) and path_scattering_table (y)
+//                                       (planetviz/tables/inscatter_factor.py, planetviz/render/vertex_actor.py
+//                                       path_opacity_image)
 //   path_opacity_texels      float      texels of each half of path_opacity_texture
 //   phase_irradiance_texture sampler2D  per group (blocks stacked along y) the outer product of the phases of the
 //                                       inscatter's four parts along x (phase_factor_table, at phase_factor_u) and
@@ -61,10 +65,10 @@ float path_opacity_u(float a, float mu, bool intersects_ground) {
     return intersects_ground ? 0.5 - half_u : 0.5 + half_u;
 }
 
-float path_opacity(ViewRay ray, bool may_meet_ground) {
+// (opacity 1 - T, scattering opacity) of the ray.
+vec2 path_opacity(ViewRay ray, bool may_meet_ground) {
     bool ground = may_meet_ground && ray_intersects_ground(ray.a, ray.mu);
-    vec2 uv = vec2(path_opacity_u(ray.a, ray.mu, ground), 0.5);
-    return dot(texture_group(path_opacity_texture, uv, first_group()), vec4(0.25));
+    return texture(path_opacity_texture, vec2(path_opacity_u(ray.a, ray.mu, ground), 0.5)).xy;
 }
 
 vec4 phase_weights(ScatteringParts s) {
@@ -109,7 +113,7 @@ struct RayFactors { float inscatter; float transmittance; float irradiance; };
 
 RayFactors ray_factors(ViewRay ray, vec4 w, bool may_meet_ground) {
     if (!ray.visible) return RayFactors(0.0, 1.0, 1.0);
-    float opacity = path_opacity(ray, may_meet_ground);
+    vec2 opacity = path_opacity(ray, may_meet_ground);
     vec4 phases = phase_irradiance(ray, may_meet_ground);
-    return RayFactors(opacity * dot(abs(w), phases), 1.0 - opacity, phases.z);
+    return RayFactors(opacity.y * dot(abs(w), phases), 1.0 - opacity.x, phases.z);
 }

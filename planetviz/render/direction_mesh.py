@@ -37,10 +37,11 @@ SECTORS = 72
 
 
 #: Rings between the planet's limb and the top of the atmosphere's, seen from above the top where that halo is
-#: wider than HALO_PIXELS pixels: at the tangent altitudes (k / n)^2 of the atmosphere's thickness, k = 1 .. n - 1,
-#: n twice the halo's width in pixels, at least 4 and at most LIMB_RINGS, so that the radiance of the rays through
-#: the limb, which falls by e about every scale height of tangent altitude (from 4 Earth radii, by 100 times across
-#: the halo's 3 pixels), changes little between rings.
+#: wider than HALO_PIXELS pixels: at the tangent altitudes k / n of the atmosphere's thickness, k = 1 .. n - 1,
+#: n twice the halo's width in pixels, at least 4 and at most LIMB_RINGS. The radiance of the rays through the
+#: limb falls by e about every scale height of tangent altitude (from 4 Earth radii, by 100 times across the
+#: halo's 3 pixels); its ratio to the inscatter factor (shaders/inscatter_factor.glsl) changes where the tangent
+#: path's optical depth passes 1, an altitude that depends on the wavelength and the atmosphere, hence even steps.
 LIMB_RINGS = 16
 HALO_PIXELS = 1
 #: The most rings and sectors a mesh of RINGS and SECTORS has (every refinement distinct): the lengths of the
@@ -63,7 +64,7 @@ def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
         extra += [top_limb - 1e-3, top_limb - 1e-5, top_limb + 1e-3]
         if pixel is None or top_limb - limb > HALO_PIXELS * pixel:
             n = LIMB_RINGS if pixel is None else int(np.clip(np.ceil(2.0 * (top_limb - limb) / pixel), 4, LIMB_RINGS))
-            tangent = bottom + (top - bottom) * (np.arange(1, n) / n) ** 2
+            tangent = bottom + (top - bottom) * (np.arange(1, n) / n)
             extra += list(np.arcsin(tangent / r))
     return np.unique(np.clip(np.concatenate([inside, outside, extra]), 0.0, math.pi))
 

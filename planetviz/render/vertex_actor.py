@@ -13,19 +13,20 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, irradiance_rows,
-                                       path_opacity_altitude, path_opacity_table, phase_factor_table,
+                                       path_opacity_altitude, path_opacity_table, path_scattering_table,
+                                       phase_factor_table,
                                        sky_irradiance_rows)
 from .atmosphere_actor import TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
-from .textures import pack_2d, pad_groups, upload
+from .textures import pad_groups, upload
 from .uniforms import draw_uniforms
 
 
 class InscatterFactorTextures:
     """The textures of shaders/inscatter_factor.glsl (planetviz/tables/inscatter_factor.py):
-    ``phase_irradiance_texture``, made once, and ``path_opacity_texture``, the opacity of every view ray from the
-    frame's ray altitude, made on the CPU (about 1 ms) and uploaded again when that altitude changes (never while
+    ``phase_irradiance_texture``, made once, and ``path_opacity_texture``, the opacity and the scattering opacity of
+    every view ray from the frame's ray altitude, made on the CPU (2-4 ms) and uploaded again when that altitude changes (never while
     the camera stays above the atmosphere, where the rays start at its top)."""
 
     def __init__(self, atmosphere, tables):
@@ -49,8 +50,7 @@ class InscatterFactorTextures:
         if self._opacity_altitude != self.altitude:
             if self._opacity is not None:
                 self._opacity.ReleaseGraphicsResources(render_window)
-            table = path_opacity_table(self.tables, self.altitude, PATH_OPACITY_TEXELS)
-            self._opacity = upload(render_window, pack_2d(table[None]))
+            self._opacity = upload(render_window, path_opacity_image(self.atmosphere, self.tables, self.altitude))
             self._opacity_altitude = self.altitude
         for name, tex in (("phase_irradiance_texture", self._phase_irradiance), ("path_opacity_texture", self._opacity)):
             tex.Activate()
@@ -71,6 +71,15 @@ class InscatterFactorTextures:
 def group_means(values):
     """(..., W) -> (..., G): the mean over each group's wavelengths (the padding of the last group left out)."""
     return np.nanmean(pad_groups(values, fill=np.nan), axis=-1)
+
+
+def path_opacity_image(atmosphere, tables, altitude):
+    """``path_opacity_texture``, (1, 2n, 4): per texel the first group's means of the rays' opacity
+    (:func:`path_opacity_table`) and of their scattering opacity (:func:`path_scattering_table`), then 0, 0."""
+    image = np.zeros((1, 2 * PATH_OPACITY_TEXELS, 4), np.float32)
+    image[0, :, 0] = group_means(path_opacity_table(tables, altitude, PATH_OPACITY_TEXELS))[:, 0]
+    image[0, :, 1] = group_means(path_scattering_table(tables, atmosphere, altitude, PATH_OPACITY_TEXELS))[:, 0]
+    return image
 
 
 def phase_irradiance_image(atmosphere, rows):

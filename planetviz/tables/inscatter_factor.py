@@ -41,6 +41,7 @@ import numpy as np
 
 from .lookup import get_irradiance, get_optical_depth, get_optical_depth_to_top_atmosphere_boundary, one_minus_exp
 from .multiple import forward_factor
+from .nodes import altitude, ray_nodes
 from .parameterization import (MU_S_MIN, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, safe_sqrt, texcoord_from_unit_range,
                                unit_range_from_texcoord)
@@ -49,6 +50,10 @@ from .parameterization import (MU_S_MIN, distance_to_bottom_atmosphere_boundary,
 PATH_OPACITY_TEXELS = 1024
 #: Texels of the phase table along u (module docstring), 0 .. 1.
 PHASE_FACTOR_TEXELS = 1024
+#: Gauss-Legendre nodes per side of a ray's closest approach for :func:`scattering_share`.
+SCATTERING_SHARE_NODES = 48
+#: Texels of the path-opacity table between those whose scattering share is computed.
+SCATTERING_SHARE_STRIDE = 8
 #: Rows of the sky irradiance per texel of the irradiance table where the sun is below the horizon.
 IRRADIANCE_SUBROWS = 8
 
@@ -101,6 +106,51 @@ def path_opacity_table(tables, a, n=PATH_OPACITY_TEXELS):
     tau[ground] = get_optical_depth(tables, r[ground], mu[ground], d[ground])
     tau[~ground] = get_optical_depth_to_top_atmosphere_boundary(tables, r[~ground], mu[~ground])
     return one_minus_exp(tau)
+
+
+def scattering_share(atm, r, mu, d, n=SCATTERING_SHARE_NODES):
+    """(N, W) the share of the opacity of each ray (r, mu) of length d [m] that scatters light back into it:
+    sum_k omega(t_k) [T(0, t_k^-) - T(0, t_k^+)] / (1 - T(0, d)), over the cells of the quadrature nodes t_k
+    (``ray_nodes``, n per side of the closest approach, in the order of t), omega = beta^scat / beta^ext at the node,
+    T from the optical depth summed over the cells before. The single scattering of a uniform, isotropic source
+    along the ray, integral of beta^scat T dt, is this share times the opacity 1 - T, exactly so where omega is the
+    same over each cell whatever their optical depths (1 where nothing absorbs); an absorbing layer (ozone) lowers
+    it for the rays through it and leaves the rays in front of it alone."""
+    t, w = ray_nodes(r, mu, d, n)
+    order = np.argsort(t, axis=-1)
+    t, w = np.take_along_axis(t, order, -1), np.take_along_axis(w, order, -1)
+    h = altitude(np.asarray(r, float)[..., None], np.asarray(mu, float)[..., None], t, atm.bottom_radius_m)
+    extinction = np.zeros(h.shape + (atm.n_wavelengths,))                 # (N, K, W)
+    scattering = np.zeros_like(extinction)
+    for beta_scat, beta_ext, profile in atm.components():
+        density = profile.density(h)[..., None]
+        extinction += density * beta_ext
+        scattering += density * beta_scat
+    albedo = np.where(extinction > 0.0, scattering / np.where(extinction > 0.0, extinction, 1.0), 1.0)
+    tau_cell = w[..., None] * extinction
+    tau_after = np.cumsum(tau_cell, axis=-2)
+    cell = np.exp(tau_cell - tau_after) * -np.expm1(-tau_cell)
+    opacity = cell.sum(-2)
+    return np.where(opacity > 0.0, (albedo * cell).sum(-2) / np.where(opacity > 0.0, opacity, 1.0),
+                    albedo[..., 0, :])
+
+
+def path_scattering_table(tables, atm, a, n=PATH_OPACITY_TEXELS):
+    """(2n, W) the scattering opacity of the rays of :func:`path_opacity_table`: their opacity 1 - T times the
+    share of it that scatters (:func:`scattering_share`), the factor of the per-vertex inscatter (an absorbing
+    layer raises a ray's opacity, not its inscatter). The share, which changes over the absorbing layers' scale
+    rather than the optical depth's, is computed on every SCATTERING_SHARE_STRIDE-th texel of each half and read
+    linearly between them."""
+    a = path_opacity_altitude(a, tables.bottom, tables.top)
+    mu, d, _ = path_opacity_rays(a, tables.bottom, tables.top, n)
+    coarse = np.concatenate([np.arange(0, n, SCATTERING_SHARE_STRIDE), [n - 1]])
+    rays = np.concatenate([coarse, n + coarse])
+    coarse_share = scattering_share(atm, np.full(rays.shape, tables.bottom + a), mu[rays], d[rays])
+    share = np.empty((2 * n, atm.n_wavelengths))
+    for half, values in ((slice(0, n), coarse_share[:len(coarse)]), (slice(n, 2 * n), coarse_share[len(coarse):])):
+        for w in range(atm.n_wavelengths):
+            share[half, w] = np.interp(np.arange(n), coarse, values[:, w])
+    return path_opacity_table(tables, a, n) * share
 
 
 def phase_factor_u(nu, n=PHASE_FACTOR_TEXELS):
