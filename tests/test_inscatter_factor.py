@@ -14,11 +14,11 @@ from conftest import draft_earth_tables
 from planetviz import load_atmosphere
 from planetviz.reference.optical_depth import optical_depth
 from planetviz.tables import QUALITY, precompute
-from planetviz.tables.inscatter_factor import (IRRADIANCE_SUBROWS, PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS,
+from planetviz.tables.inscatter_factor import (IRRADIANCE_SUBROWS, SHARE_ALTITUDE_STEP, PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS,
                                                irradiance_row_index, irradiance_rows, path_opacity_altitude,
                                                path_opacity_rays, path_opacity_table, path_opacity_u,
-                                               path_scattering_table, phase_factor_table, phase_factor_u,
-                                               scattering_share, sky_irradiance_rows)
+                                               path_scattering_share, phase_factor_table, phase_factor_u,
+                                               scattering_share, share_holds, sky_irradiance_rows)
 from planetviz.tables.lookup import (get_irradiance, get_optical_depth, get_optical_depth_to_top_atmosphere_boundary,
                                      one_minus_exp)
 from planetviz.tables.parameterization import MU_S_MIN
@@ -216,13 +216,31 @@ def test_the_scattering_share_is_the_integral_of_the_scattering_along_the_ray(na
                                rtol=SHARE_TOLERANCE)
 
 
-def test_the_path_scattering_table_is_the_opacity_times_the_share():
+def test_the_path_scattering_share_reads_as_the_share_of_each_texel():
     # The table computes the share on every few texels and reads it linearly between them: against the share of
     # every texel's own ray, within the same 3% (the share changes over the absorbing layers' kilometres, a texel
-    # is 0.2 km of tangent altitude from the top of the Earth's atmosphere).
+    # is 0.2 km of tangent altitude from the top of the Earth's atmosphere). A slice of the wavelengths reads as
+    # those wavelengths of the whole.
     atm, t = load_atmosphere("earth"), draft_earth_tables()
     for a in (2.0, 3e4, t.top - t.bottom):
         mu, d, _ = path_opacity_rays(a, t.bottom, t.top)
         share = scattering_share(atm, np.full(mu.shape, t.bottom + a), mu, d)
-        np.testing.assert_allclose(path_scattering_table(t, atm, a), path_opacity_table(t, a) * share,
-                                   rtol=SHARE_TOLERANCE)
+        table = path_scattering_share(t, atm, a)
+        np.testing.assert_allclose(table, share, rtol=SHARE_TOLERANCE)
+        np.testing.assert_allclose(path_scattering_share(t, atm, a, wavelengths=slice(1, 3)), table[:, 1:3],
+                                   rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["earth", "random-7", "random-100003"])
+def test_a_scattering_share_stands_for_the_altitudes_it_holds_for(name):
+    # The renderer keeps a share while share_holds says so (a camera turning moves it by millimetres): within that
+    # step the share of every texel stays within the share's own tolerance. The two random atmospheres are the
+    # ones whose share moved most with the altitude among 16 (thin atmospheres, where a texel's ray moves fastest
+    # near the top).
+    atm = load_atmosphere("earth") if name == "earth" else random_atmosphere(int(name.split("-")[1]))
+    t = draft_earth_tables() if name == "earth" else precompute(atm, QUALITY["draft"], multiple=False)
+    step = SHARE_ALTITUDE_STEP * atm.thickness_m
+    assert share_holds(100.0, 100.0 + step, atm) and not share_holds(100.0, 100.0 + 1.01 * step, atm)
+    for a in np.concatenate([[0.0, 2.0], np.geomspace(100.0, 0.999 * atm.thickness_m, 8)]):
+        np.testing.assert_allclose(path_scattering_share(t, atm, a + step), path_scattering_share(t, atm, a),
+                                   rtol=0.0, atol=SHARE_TOLERANCE)

@@ -264,7 +264,7 @@ class DirectionMeshActor:
         self.split_at_limb = split_at_limb
         self.settings = settings or DisplaySettings()
         self._mesh_key = self._frame_key = None
-        self.mappers, actors, self._stores, self._polys = [], [], [], []
+        self.mappers, actors, self._stores, self._polys, self._cells = [], [], [], [], []
         static = self.static_uniforms()
         mesh_code = (f"#define MESH_RINGS {MESH_RINGS}\n#define MESH_SECTORS {MESH_SECTORS}\n"
                      + shader_code("direction_mesh.glsl"))
@@ -275,6 +275,7 @@ class DirectionMeshActor:
             poly = vtkPolyData()
             mapper.SetInputData(poly)
             self._polys.append(poly)
+            self._cells.append(None)
             actor = vtkActor()
             actor.SetMapper(mapper)
             actor.GetProperty().SetPointSize(1)
@@ -369,8 +370,12 @@ class DirectionMeshActor:
             else:
                 parts = [(mesh.triangles_of(drawn), "polys")]
             uniforms = mesh.uniforms()
-        for poly, (cells, kind) in zip(self._polys, parts):
-            _set_cells(poly, points, cells, kind)
+        for k, (poly, (cells, kind)) in enumerate(zip(self._polys, parts)):
+            last = self._cells[k]
+            if (poly.GetPoints() is not points or last is None or last[1] != kind
+                    or not np.array_equal(last[0], cells)):
+                _set_cells(poly, points, cells, kind)      # VTK uploads the part's index buffer again
+                self._cells[k] = (cells, kind)
         return uniforms
 
     def _shader_observer(self, store):

@@ -13,7 +13,7 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, irradiance_rows,
-                                       path_opacity_altitude, path_opacity_table, path_scattering_table,
+                                       path_opacity_altitude, path_opacity_table, path_scattering_share, share_holds,
                                        phase_factor_table,
                                        sky_irradiance_rows)
 from .atmosphere_actor import TableTextures
@@ -26,14 +26,17 @@ from .uniforms import draw_uniforms
 class InscatterFactorTextures:
     """The textures of shaders/inscatter_factor.glsl (planetviz/tables/inscatter_factor.py):
     ``phase_irradiance_texture``, made once, and ``path_opacity_texture``, the opacity and the scattering opacity of
-    every view ray from the frame's ray altitude, made on the CPU (2-4 ms) and uploaded again when that altitude changes (never while
-    the camera stays above the atmosphere, where the rays start at its top)."""
+    every view ray from the frame's ray altitude, made on the CPU and uploaded again when that altitude changes
+    (never while the camera stays above the atmosphere, where the rays start at its top): the opacity in about 1 ms,
+    the share of it that scatters in 3-5 ms, only when the altitude moved by more than ``share_holds`` allows (not
+    while the camera turns)."""
 
     def __init__(self, atmosphere, tables):
         self.atmosphere, self.tables = atmosphere, tables
         self.altitude = 0.0
         self.irradiance = sky_irradiance_rows(tables)
         self._phase_irradiance = self._opacity = self._opacity_altitude = None
+        self._share = self._share_altitude = None
 
     def uniforms(self):
         return {"path_opacity_texels": ("f", PATH_OPACITY_TEXELS), "phase_factor_texels": ("f", PHASE_FACTOR_TEXELS),
@@ -50,7 +53,13 @@ class InscatterFactorTextures:
         if self._opacity_altitude != self.altitude:
             if self._opacity is not None:
                 self._opacity.ReleaseGraphicsResources(render_window)
-            self._opacity = upload(render_window, path_opacity_image(self.atmosphere, self.tables, self.altitude))
+            first = slice(0, min(4, self.atmosphere.n_wavelengths))
+            if self._share is None or not share_holds(self._share_altitude, self.altitude, self.atmosphere):
+                self._share = path_scattering_share(self.tables, self.atmosphere, self.altitude,
+                                                    PATH_OPACITY_TEXELS, first)
+                self._share_altitude = self.altitude
+            opacity = path_opacity_table(self.tables, self.altitude, PATH_OPACITY_TEXELS)[:, first]
+            self._opacity = upload(render_window, path_opacity_image(opacity, self._share))
             self._opacity_altitude = self.altitude
         for name, tex in (("phase_irradiance_texture", self._phase_irradiance), ("path_opacity_texture", self._opacity)):
             tex.Activate()
@@ -73,12 +82,13 @@ def group_means(values):
     return np.nanmean(pad_groups(values, fill=np.nan), axis=-1)
 
 
-def path_opacity_image(atmosphere, tables, altitude):
-    """``path_opacity_texture``, (1, 2n, 4): per texel the first group's means of the rays' opacity
-    (:func:`path_opacity_table`) and of their scattering opacity (:func:`path_scattering_table`), then 0, 0."""
-    image = np.zeros((1, 2 * PATH_OPACITY_TEXELS, 4), np.float32)
-    image[0, :, 0] = group_means(path_opacity_table(tables, altitude, PATH_OPACITY_TEXELS))[:, 0]
-    image[0, :, 1] = group_means(path_scattering_table(tables, atmosphere, altitude, PATH_OPACITY_TEXELS))[:, 0]
+def path_opacity_image(opacity, share):
+    """``path_opacity_texture``, (1, 2n, 4): per texel the means over the first group's wavelengths of the rays'
+    opacity (2n, W'; :func:`path_opacity_table`) and of their scattering opacity, that times the ``share``
+    (:func:`path_scattering_share`), then 0, 0."""
+    image = np.zeros((1, len(opacity), 4), np.float32)
+    image[0, :, 0] = opacity.mean(-1)
+    image[0, :, 1] = (opacity * share).mean(-1)
     return image
 
 

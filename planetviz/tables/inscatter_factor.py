@@ -54,6 +54,9 @@ PHASE_FACTOR_TEXELS = 1024
 SCATTERING_SHARE_NODES = 48
 #: Texels of the path-opacity table between those whose scattering share is computed.
 SCATTERING_SHARE_STRIDE = 8
+#: The change of the rays' altitude, as a fraction of the atmosphere's thickness, within which a
+#: :func:`path_scattering_share` stands (:func:`share_holds`).
+SHARE_ALTITUDE_STEP = 1e-5
 #: Rows of the sky irradiance per texel of the irradiance table where the sun is below the horizon.
 IRRADIANCE_SUBROWS = 8
 
@@ -108,49 +111,61 @@ def path_opacity_table(tables, a, n=PATH_OPACITY_TEXELS):
     return one_minus_exp(tau)
 
 
-def scattering_share(atm, r, mu, d, n=SCATTERING_SHARE_NODES):
-    """(N, W) the share of the opacity of each ray (r, mu) of length d [m] that scatters light back into it:
+def scattering_share(atm, r, mu, d, wavelengths=None, n=SCATTERING_SHARE_NODES):
+    """(N, W') the share of the opacity of each ray (r, mu) of length d [m] that scatters light back into it:
     sum_k omega(t_k) [T(0, t_k^-) - T(0, t_k^+)] / (1 - T(0, d)), over the cells of the quadrature nodes t_k
     (``ray_nodes``, n per side of the closest approach, in the order of t), omega = beta^scat / beta^ext at the node,
     T from the optical depth summed over the cells before. The single scattering of a uniform, isotropic source
     along the ray, integral of beta^scat T dt, is this share times the opacity 1 - T, exactly so where omega is the
     same over each cell whatever their optical depths (1 where nothing absorbs); an absorbing layer (ozone) lowers
-    it for the rays through it and leaves the rays in front of it alone."""
+    it for the rays through it and leaves the rays in front of it alone. ``wavelengths``: a slice of the
+    atmosphere's wavelengths (W' of them; default all)."""
+    wavelengths = slice(None) if wavelengths is None else wavelengths
     t, w = ray_nodes(r, mu, d, n)
     order = np.argsort(t, axis=-1)
     t, w = np.take_along_axis(t, order, -1), np.take_along_axis(w, order, -1)
     h = altitude(np.asarray(r, float)[..., None], np.asarray(mu, float)[..., None], t, atm.bottom_radius_m)
-    extinction = np.zeros(h.shape + (atm.n_wavelengths,))                 # (N, K, W)
-    scattering = np.zeros_like(extinction)
-    for beta_scat, beta_ext, profile in atm.components():
-        density = profile.density(h)[..., None]
-        extinction += density * beta_ext
-        scattering += density * beta_scat
-    albedo = np.where(extinction > 0.0, scattering / np.where(extinction > 0.0, extinction, 1.0), 1.0)
+    components = atm.components()
+    density = np.stack([profile.density(h) for _, _, profile in components], axis=-1)       # (N, K, C)
+    extinction = density @ np.stack([beta_ext[wavelengths] for _, beta_ext, _ in components])  # (N, K, W')
+    scattering = density @ np.stack([beta_scat[wavelengths] for beta_scat, _, _ in components])
     tau_cell = w[..., None] * extinction
-    tau_after = np.cumsum(tau_cell, axis=-2)
-    cell = np.exp(tau_cell - tau_after) * -np.expm1(-tau_cell)
-    opacity = cell.sum(-2)
-    return np.where(opacity > 0.0, (albedo * cell).sum(-2) / np.where(opacity > 0.0, opacity, 1.0),
-                    albedo[..., 0, :])
+    transmittance = np.exp(-np.cumsum(tau_cell, axis=-2))                   # after each cell
+    before = np.concatenate([np.ones_like(transmittance[..., :1, :]), transmittance[..., :-1, :]], axis=-2)
+    albedo = scattering / np.maximum(extinction, 1e-300)
+    opacity = 1.0 - transmittance[..., -1, :]
+    # Below an opacity of 1e-4 the cells' transmittance steps lose digits; there the share is the albedo weighted
+    # by optical depth, its limit, to O(opacity).
+    thin = np.sum(w[..., None] * scattering, axis=-2) / np.maximum(np.sum(tau_cell, axis=-2), 1e-300)
+    thick = np.sum(albedo * (before - transmittance), axis=-2) / np.maximum(opacity, 1e-300)
+    return np.where(opacity > 1e-4, thick, np.where(np.sum(tau_cell, axis=-2) > 0.0, thin, albedo[..., 0, :]))
 
 
-def path_scattering_table(tables, atm, a, n=PATH_OPACITY_TEXELS):
-    """(2n, W) the scattering opacity of the rays of :func:`path_opacity_table`: their opacity 1 - T times the
-    share of it that scatters (:func:`scattering_share`), the factor of the per-vertex inscatter (an absorbing
-    layer raises a ray's opacity, not its inscatter). The share, which changes over the absorbing layers' scale
-    rather than the optical depth's, is computed on every SCATTERING_SHARE_STRIDE-th texel of each half and read
-    linearly between them."""
+def path_scattering_share(tables, atm, a, n=PATH_OPACITY_TEXELS, wavelengths=None):
+    """(2n, W') the :func:`scattering_share` of the rays of :func:`path_opacity_table` from altitude a [m]; times
+    their opacity, the factor of the per-vertex inscatter (an absorbing layer raises a ray's opacity, not its
+    inscatter). The share changes over the absorbing layers' scale rather than the optical depth's: it is computed
+    on every SCATTERING_SHARE_STRIDE-th texel of each half and read linearly between them. ``wavelengths``: a
+    slice of the atmosphere's wavelengths (W' of them; default all)."""
     a = path_opacity_altitude(a, tables.bottom, tables.top)
     mu, d, _ = path_opacity_rays(a, tables.bottom, tables.top, n)
     coarse = np.concatenate([np.arange(0, n, SCATTERING_SHARE_STRIDE), [n - 1]])
     rays = np.concatenate([coarse, n + coarse])
-    coarse_share = scattering_share(atm, np.full(rays.shape, tables.bottom + a), mu[rays], d[rays])
-    share = np.empty((2 * n, atm.n_wavelengths))
+    coarse_share = scattering_share(atm, np.full(rays.shape, tables.bottom + a), mu[rays], d[rays], wavelengths)
+    share = np.empty((2 * n, coarse_share.shape[-1]))
     for half, values in ((slice(0, n), coarse_share[:len(coarse)]), (slice(n, 2 * n), coarse_share[len(coarse):])):
-        for w in range(atm.n_wavelengths):
+        for w in range(share.shape[-1]):
             share[half, w] = np.interp(np.arange(n), coarse, values[:, w])
-    return path_opacity_table(tables, a, n) * share
+    return share
+
+
+def share_holds(share_altitude, a, atm):
+    """Whether the :func:`path_scattering_share` made at altitude ``share_altitude`` [m] stands for altitude a [m]:
+    within SHARE_ALTITUDE_STEP of the atmosphere's thickness (0.6 m on Earth), over which the share of a texel
+    changed by at most 0.05% on the presets and 2% on 16 random atmospheres (a texel's ray moves with the altitude,
+    most near the top of a thin atmosphere). A camera turning about a point moves by millimetres; one flying
+    recomputes it."""
+    return abs(a - share_altitude) <= SHARE_ALTITUDE_STEP * atm.thickness_m
 
 
 def phase_factor_u(nu, n=PHASE_FACTOR_TEXELS):
