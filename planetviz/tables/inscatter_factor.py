@@ -1,8 +1,11 @@
 """The small tables that the per-vertex renderer's inscatter factor reads per pixel (shaders/inscatter_factor.glsl,
-the GLSL twins of :func:`path_opacity_u` and :func:`phase_factor_u`): the opacity of every view ray from the frame's
-ray altitude, the phase functions, and the sky's irradiance on the ground.
+the GLSL twins of :func:`path_opacity_u` and :func:`phase_factor_u`): the opacity and the scattering opacity of
+every view ray from the frame's ray altitude, the phase functions, and the sky's irradiance on the ground.
 
-**Path opacity.** The opacity 1 - T of every view ray from one altitude.
+**Path opacity.** The opacity 1 - T of every view ray from one altitude, and the share of it that scatters light
+(:func:`scattering_share`): their product, the integral of beta_scat T along the ray, is what the inscatter grows
+with along the limb's halo and toward the horizon, where an absorbing layer (ozone) raises the opacity and not the
+inscatter.
 
 All the rays of a frame start at the same altitude a (the camera's, or the top of the atmosphere for a camera in
 space, where the rays enter), so their opacity to where they leave the atmosphere or meet the ground is a function
