@@ -158,29 +158,34 @@ def random_atmospheres(split, count):
 
 
 def views(presets, size):
-    """The quick view's pictures (single scattering; all orders) against the per-pixel 4D tables', the same
-    frames in CIE Y (``render_hdr``), the relative difference floored at 1% of the frame's 99th percentile (a
-    pixel darker than that counts against that level; planetviz.validation.pictures), the sun's disc left out;
-    the atmosphere's uniform albedo on both sides, so that the atmospheres are compared, not the texture."""
+    """The quick view's pictures (single scattering; all orders), and the draft tables' read per vertex (what the
+    window shows after the quick view while the standard tables compute), against the per-pixel standard tables',
+    the same frames in CIE Y (``render_hdr``), the relative difference floored at 1% of the frame's 99th
+    percentile (a pixel darker than that counts against that level; planetviz.validation.pictures), the sun's disc
+    left out; the atmosphere's uniform albedo on both sides, so that the atmospheres are compared, not the
+    texture."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     from planetviz.render import Scene
     w, h = (int(v) for v in size.split("x"))
-    print(f"\n{size}: quick view against the per-pixel standard tables, CIE Y, floored at 1% of the frame's p99")
-    print("| atmosphere | view | single: RMS | p99 | all orders: RMS | p99 |")
-    print("|---|---|---|---|---|---|")
+    print(f"\n{size}: quick view and draft tables against the per-pixel standard tables, CIE Y, floored at 1% of "
+          "the frame's p99")
+    print("| atmosphere | view | single: RMS | p99 | all orders: RMS | p99 | draft tables per vertex: RMS | p99 |")
+    print("|---|---|---|---|---|---|---|---|")
+    kinds = {"tables": dict(quality="standard", shading="pixel"),
+             "single": dict(quality="standard", method="quick", quick_orders="single"),
+             "all": dict(quality="standard", method="quick", quick_orders="all"),
+             "draft": dict(quality="draft", shading="vertex")}
     for name in presets:
-        scenes = {kind: Scene(name, quality="standard", surface=None, off_screen=True, window_size=(w, h),
-                              shading="pixel", method="tables" if kind == "tables" else "quick",
-                              quick_orders=kind if kind != "tables" else "all")
-                  for kind in ("tables", "single", "all")}
+        scenes = {kind: Scene(name, surface=None, off_screen=True, window_size=(w, h), **options)
+                  for kind, options in kinds.items()}
         try:
             for view, spec in VIEWS.items():
                 y = {kind: view_luminance(scene, spec) for kind, scene in scenes.items()}
                 cells = []
-                for kind in ("single", "all"):
+                for kind in ("single", "all", "draft"):
                     rel = floored_difference(y[kind], y["tables"])
                     cells.append(f"{np.sqrt(np.mean(rel ** 2)):.4f} | {np.percentile(rel, 99):.4f}")
-                print(f"| {name} | {view} | {cells[0]} | {cells[1]} |", flush=True)
+                print(f"| {name} | {view} | {' | '.join(cells)} |", flush=True)
         finally:
             for scene in scenes.values():
                 scene.close()

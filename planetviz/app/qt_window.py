@@ -647,7 +647,8 @@ class PlanetWindow(QtWidgets.QMainWindow):
         tables = f"tables: {job[0]} {100 * job[1]:.0f}%" if job else \
             (f"tables failed: {s.table_error}" if s.table_error else "tables ready")
         sun = s.sun
-        return (f"{s.atmosphere.name} | {s.renderer_in_use} (per {s.shading}) | {tables} | {s.quality} | "
+        shown = f"{s.renderer_in_use}{' (draft)' if s.showing_draft else ''}"
+        return (f"{s.atmosphere.name} | {shown} (per {s.shading}) | {tables} | {s.quality} | "
                 f"sun {sun.elevation:.2f} deg, azimuth {sun.azimuth:.1f} deg")
 
     def refresh(self):

@@ -252,7 +252,8 @@ class PlanetApp:
         job = s.precompute_progress
         tables = f"tables {job[0]} {100 * job[1]:.0f}%" if job else \
             (f"tables failed: {s.table_error}" if s.table_error else "tables ready")
-        return (f"{s.atmosphere.name} | renderer: {s.renderer_in_use} (per {s.shading}) | {tables} | "
+        shown = f"{s.renderer_in_use}{' (draft)' if s.showing_draft else ''}"
+        return (f"{s.atmosphere.name} | renderer: {shown} (per {s.shading}) | {tables} | "
                 f"{s.quality} quality | frame {self._frame_ms:.0f} ms | {self.mode} mode | "
                 f"tone mapping {s.settings.tone_mapping}")
 

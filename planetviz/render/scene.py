@@ -20,7 +20,7 @@ from ..model.optics.light import star_irradiance
 from ..quick_view.multiple_scattering import ORDERS
 from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.compact import TABLE_KINDS, tables_of_kind
-from ..tables.precompute import QUALITY, precompute
+from ..tables.precompute import QUALITY, is_cached, precompute
 from .atmosphere_actor import AtmosphereActor
 from .background import BACKGROUND_NICENESS, BackgroundJob
 from .quick_view_actor import QuickViewActor
@@ -114,6 +114,7 @@ class PlanetView:
         _one_of("quick_orders", quick_orders, ORDERS)
         self.quick_samples, self.quick_terms, self.quick_orders = quick_samples, quick_terms, quick_orders
         self.table_error = None               # why the last background precompute failed, if it did
+        self.showing_draft = False            # draft tables stand in while the final ones are computed
         self.sun = SunPlacement(*SUN_DEFAULT)
         self._sun = self.sun.direction()
         self._method = None
@@ -184,10 +185,12 @@ class PlanetView:
 
     def set_atmosphere(self, atmosphere, wait=False, force=False):
         """Change the atmosphere, keeping the view. With table rendering, a change that needs new tables shows
-        the quick view at once while the tables are computed in a background thread; the next render after they
-        are ready shows them (:attr:`renderer_in_use` says which is shown). ``wait``: compute in the foreground;
-        ``force``: new tables even if the parameters did not change (after a change of quality). The precompute
-        starts when the next frame has been drawn (planetviz/render/background.py)."""
+        the quick view at once while the tables are computed in a background thread; above the draft quality the
+        thread first makes draft tables (unless the cache holds the final ones), which stand in until the final
+        ones are ready (:attr:`showing_draft`); the next render after each is ready shows it
+        (:attr:`renderer_in_use` says which is shown). ``wait``: compute in the foreground; ``force``: new tables
+        even if the parameters did not change (after a change of quality). The precompute starts when the next
+        frame has been drawn (planetviz/render/background.py)."""
         atm = atmosphere if isinstance(atmosphere, Atmosphere) else load_atmosphere(atmosphere)
         old = self._atmosphere
         self._atmosphere = atm
@@ -208,7 +211,7 @@ class PlanetView:
             return
         self._drop_actors()
         self._show_quick()
-        self._job = _TableJob(atm, sizes, cache)
+        self._job = _TableJob(atm, sizes, cache, preview=None if self._quality == "draft" else QUALITY["draft"])
 
     @property
     def renderer_in_use(self):
@@ -259,15 +262,23 @@ class PlanetView:
             self.quick.start_job()
 
     def _collect_tables(self):
-        """Show a finished precompute's tables; True if it did."""
+        """Show a finished precompute's tables, or its draft tables while it goes on; True if it did."""
         job = self._job
-        if job is None or not job.done:
+        if job is None:
             return False
+        if not job.done:
+            draft = job.take_preview()
+            if draft is None or job.atmosphere is not self._atmosphere:
+                return False
+            self._drop_actors()
+            self._show_tables(draft)
+            self.showing_draft = True
+            return True
         self._job = None
         if job.atmosphere is not self._atmosphere:         # superseded by a later change
             return False
         if job.error is not None:
-            self.table_error = job.error                       # keep showing the quick view
+            self.table_error = job.error                       # keep showing the quick view or the draft
             return False
         self.table_error = None
         self._drop_actors()
@@ -282,6 +293,7 @@ class PlanetView:
 
     def _show_tables(self, tables):
         self._tables = tables
+        self.showing_draft = False
         drawn = tables_of_kind(tables, self._atmosphere, self._table_kind)
         self.planet = SHADINGS[self._shading](self._atmosphere, drawn, self.renderer,
                                               surface=self._ground_surface, settings=self.settings)
@@ -298,6 +310,7 @@ class PlanetView:
 
     def _drop_actors(self):
         """Take the actors out (no frame: the caller's next render draws what replaces them)."""
+        self.showing_draft = False
         if self.planet is not None:
             self.remove_actor(self.planet.actor, render=False)
             self.planet.release()
@@ -512,11 +525,24 @@ class Scene(PlanetView, pv.Plotter):
 
 class _TableJob(BackgroundJob):
     """A precompute as a background job (NumPy and the disk cache only: VTK is touched by the main thread);
-    ``progress``: (stage, fraction)."""
+    ``progress``: (stage, fraction). With ``preview`` (table sizes), tables of those sizes are made first, unless
+    the cache holds the final ones, and handed out once by :meth:`take_preview` while the final ones are computed
+    (for Earth, draft tables in 0.6 s before standard ones in 4 s)."""
 
-    def __init__(self, atmosphere, sizes, cache):
+    def __init__(self, atmosphere, sizes, cache, preview=None):
         self.atmosphere = atmosphere
         self.progress = ("starting", 0.0)
-        super().__init__(lambda: precompute(atmosphere, sizes, cache=cache,
-                                            progress=lambda stage, f: setattr(self, "progress", (stage, f))),
-                         niceness=BACKGROUND_NICENESS)
+        self._preview = None
+
+        def work():
+            if preview is not None and not is_cached(atmosphere, sizes, cache):
+                self._preview = precompute(atmosphere, preview, cache=cache,
+                                           progress=lambda stage, f: setattr(self, "progress", (f"draft {stage}", f)))
+            return precompute(atmosphere, sizes, cache=cache,
+                              progress=lambda stage, f: setattr(self, "progress", (stage, f)))
+        super().__init__(work, niceness=BACKGROUND_NICENESS)
+
+    def take_preview(self):
+        """The preview's tables once they are ready, once; else None."""
+        tables, self._preview = self._preview, None
+        return tables

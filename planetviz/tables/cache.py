@@ -130,6 +130,11 @@ class TableCache:
         self._memory[(stage, key)] = out
         return out
 
+    def holds(self, stage: str, key: str, tables) -> bool:
+        """Whether every table of ``stage`` under ``key`` is in memory or on disk (not read: :meth:`load` may still
+        find a file unusable)."""
+        return (stage, key) in self._memory or all(self._path(table, key).exists() for table in tables)
+
     def store(self, stage: str, key: str, params: dict, wavelengths, arrays: dict, attrs=None):
         """Write each table of ``stage`` atomically; failures to write only warn (the tables stay in memory)."""
         self._memory[(stage, key)] = {**arrays, "attrs": dict(attrs or {})}

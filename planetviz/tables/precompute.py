@@ -53,7 +53,7 @@ class TableSizes:
 
 #: Named quality levels (measured in docs/benchmarks.md: precompute time and error against the reference).
 QUALITY = {
-    "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
+    "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 24, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         multiple_samples=4, directions=(8, 8), tolerance=1e-2),
     "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 128, 32), scattering_samples=8,
@@ -232,6 +232,16 @@ class _Stages:
         if self.cache is not None:
             self.cache.store(name, self.keys[name], self.params[name], self.wavelengths, arrays, attrs)
         return {**arrays, "attrs": attrs}
+
+
+def is_cached(atm, sizes: TableSizes, cache) -> bool:
+    """Whether ``cache`` holds every stage of ``atm``'s tables at ``sizes``, so that :func:`precompute` would only
+    read them."""
+    if cache is None:
+        return False
+    sizes = sizes_for(atm, sizes)
+    params, shapes = stage_parameters(atm, sizes), stage_shapes(sizes, atm.n_wavelengths)
+    return all(cache.holds(stage, parameters_hash(params[stage]), shapes[stage]) for stage in shapes)
 
 
 def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, progress=None,
