@@ -317,3 +317,38 @@ def test_the_path_opacity_table_follows_the_camera_altitude(vertex):
     finally:
         fresh.close()
     np.testing.assert_allclose(moved, want, rtol=1e-5, atol=0)   # the same draw: equal but for float rounding
+
+
+#: The rows of docs/benchmarks.md's per-vertex accuracy table that miss the issue's targets (what limits them is
+#: written there): their tests fail as expected, and strictly, so that a change that brings one within the targets
+#: says so.
+KNOWN_MISSES = {("earth", "orbit, terminator"), ("exo-co2-thick", "orbit, day"), ("exo-co2-thick", "orbit, terminator")}
+
+
+@pytest.fixture(scope="module")
+def both_renderers_1280():
+    """{preset: (per-pixel scene, per-vertex scene)} at 1280x720 with standard tables and the surface texture."""
+    scenes = {}
+    yield scenes
+    for pair in scenes.values():
+        for scene in pair:
+            scene.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("preset,view", [
+    pytest.param(p, v, marks=pytest.mark.xfail(strict=True, reason="a known miss (docs/benchmarks.md)"))
+    if (p, v) in KNOWN_MISSES else (p, v)
+    for p in ("earth", "mars", "exo-co2-thick") for v in VIEWS])
+def test_every_view_class_per_vertex_is_the_per_pixel_picture(both_renderers_1280, preset, view):
+    # The issue's targets, in the frames of docs/benchmarks.md's table (1280x720, standard tables, CIE Y, the
+    # difference floored at 1% of the frame's 99th percentile): 1% RMS and 3% at the 99th percentile. Both sides
+    # read the same tables, so the bound is the interpolation's alone, with nothing to allow for noise.
+    if preset not in both_renderers_1280:
+        both_renderers_1280[preset] = tuple(
+            Scene(preset, quality="standard", surface="texture", off_screen=True, window_size=(1280, 720),
+                  shading=shading) for shading in ("pixel", "vertex"))
+    pixel, vertex = (view_luminance(scene, VIEWS[view]) for scene in both_renderers_1280[preset])
+    difference = floored_difference(vertex, pixel)
+    assert np.sqrt(np.mean(difference ** 2)) <= 0.01
+    assert np.percentile(difference, 99) <= 0.03
