@@ -13,9 +13,8 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..tables.inscatter_factor import (PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS, irradiance_rows,
-                                       path_opacity_altitude, path_opacity_table, path_scattering_share, share_holds,
-                                       phase_factor_table,
-                                       sky_irradiance_rows)
+                                       path_opacity_altitude, path_opacity_table, path_scattering_share,
+                                       phase_factor_table, share_holds, sky_irradiance_rows)
 from .atmosphere_actor import TableTextures
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
