@@ -53,7 +53,7 @@ class TableSizes:
 
 #: Named quality levels (measured in docs/benchmarks.md: precompute time and error against the reference).
 QUALITY = {
-    "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 24, 64, 16),
+    "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         multiple_samples=4, directions=(8, 8), tolerance=1e-2),
     "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 128, 32), scattering_samples=8,
