@@ -16,6 +16,8 @@
 //   optical_depth_texture       sampler2D  tau(r, mu) to the top; x: mu, y: r, the G groups stacked along y
 //   irradiance_texture          sampler2D  indirect irradiance E(r, mu_s); x: mu_s, y: r, groups along y
 //   single_rayleigh_texture     sampler3D  S_R(r, mu, mu_s, nu); x: nu slices of mu_s, y: mu, z: r, groups along z
+//                                          (x one column wider, unread, where n_nu n_mu_s is a power of two:
+//                                          planetviz/render/textures.py pack_3d)
 //   single_mie_texture          sampler3D  S_M, same layout
 //   multiple_texture            sampler3D  multiple scattering last scattered by molecules (phase included)
 //   multiple_mie_texture        sampler3D  multiple scattering last scattered by particles, divided by forward_factor
@@ -271,11 +273,12 @@ vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, f
     float s0 = clamp(floor(coord_s), 0.0, n_mu_s - 2.0);
     float fs = min(coord_s - s0, 1.0);
     float z = (float(g) + uvwz.w) / float(group_count);
+    float width = float(textureSize(table, 0).x);        // n_nu n_mu_s, or one more (textures.py pack_3d)
     vec4 slices[2];
     for (int dn = 0; dn < 2; ++dn) {
         float base = (tex_nu + float(dn)) * n_mu_s;
-        vec4 a = texture(table, vec3((base + s0 + 0.5) / (n_nu * n_mu_s), uvwz.z, z));
-        vec4 b = texture(table, vec3((base + s0 + 1.5) / (n_nu * n_mu_s), uvwz.z, z));
+        vec4 a = texture(table, vec3((base + s0 + 0.5) / width, uvwz.z, z));
+        vec4 b = texture(table, vec3((base + s0 + 1.5) / width, uvwz.z, z));
         slices[dn] = geometric_blend(a, b, fs);
     }
     return (n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0]) * opacity;

@@ -193,6 +193,23 @@ def test_tables_are_uploaded_as_32_bit_float_textures(earth):
             assert tex.GetVTKDataType() == VTK_FLOAT and tex.GetComponents() == 4, name
 
 
+@pytest.mark.parametrize("quality", ["draft", "standard", "high"])
+def test_no_4d_table_texture_is_a_power_of_two_wide(quality):
+    # llvmpipe compiles a shader variant per power-of-two-ness of the textures it samples: with one width for
+    # every level the draft tables a window shows before the standard ones draw with the standard tables' program
+    # (docs/rendering.md, "Progressive switching"). The draft level's 4 x 16 slices are padded by one column; the
+    # twin tests above (draft tables) fail if the shader reads the padded texture with the unpadded width.
+    from planetviz.render.textures import pack_3d
+    from planetviz.tables import QUALITY
+    sizes = QUALITY[quality]
+    for n_nu, n_mu_s, n_mu, n_r in (sizes.scattering, sizes.multiple):
+        table = np.random.default_rng(0).random((n_r, n_mu, n_nu, n_mu_s, 3), dtype=np.float32)
+        volume = pack_3d(table, odd_width=True)
+        width = volume.shape[2]
+        assert width & (width - 1) != 0 and width in (n_nu * n_mu_s, n_nu * n_mu_s + 1)
+        np.testing.assert_array_equal(volume[:, :, :n_nu * n_mu_s], pack_3d(table))
+
+
 def test_no_jitter_two_metres_above_the_ground_and_no_jump_at_the_top(earth):
     top = earth.atmosphere.top_radius_m
     earth.set_sun(elevation=25, azimuth=90, latitude=0, longitude=0)

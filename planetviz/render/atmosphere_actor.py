@@ -121,10 +121,9 @@ class TableTextures:
                     for name in ("rayleigh", "mie", "multiple")})
             else:
                 self._textures.update({
-                    "single_rayleigh_texture": upload(render_window, pack_3d(t.rayleigh), half_float=half),
-                    "single_mie_texture": upload(render_window, pack_3d(t.mie), half_float=half),
-                    "multiple_texture": upload(render_window, pack_3d(t.multiple), half_float=half),
-                    "multiple_mie_texture": upload(render_window, pack_3d(t.multiple_mie), half_float=half),
+                    **{f"{name}_texture": upload(render_window, pack_3d(table, odd_width=True), half_float=half)
+                       for name, table in (("single_rayleigh", t.rayleigh), ("single_mie", t.mie),
+                                           ("multiple", t.multiple), ("multiple_mie", t.multiple_mie))},
                     "density_texture": upload(render_window, density_image(self.atmosphere))})
             self._textures["surface_faces"] = upload(render_window, self._cube(), srgb=True, layers=True)
         for name, tex in self._textures.items():

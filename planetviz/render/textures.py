@@ -36,12 +36,20 @@ def pack_2d(table):
     return np.ascontiguousarray(np.moveaxis(t, 2, 0).reshape(-1, t.shape[1], 4))
 
 
-def pack_3d(table):
-    """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) as an RGBA volume (G n_r, n_mu, n_nu n_mu_s, 4): x runs over
-    the nu slices of mu_s, y over mu, z over r, the groups stacked along z."""
+def pack_3d(table, odd_width=False):
+    """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) as an RGBA volume (G n_r, n_mu, X, 4), X = n_nu n_mu_s: x runs
+    over the nu slices of mu_s, y over mu, z over r, the groups stacked along z. ``odd_width``: where X is a power
+    of two, one column of zeros is appended, never read (the shader divides by the texture's own width), so that
+    the width never is one: llvmpipe compiles a shader variant per power-of-two-ness of the textures it samples,
+    and the draft level's 4 x 16 slices (64) would otherwise draw with another program than the standard level's
+    8 x 48 (384), compiled the first time a machine shows draft tables (1.6-1.9 s)."""
     n_r, n_mu, n_nu, n_mu_s = table.shape[:4]
-    t = pad_groups(np.asarray(table).reshape(n_r, n_mu, n_nu * n_mu_s, -1))   # (n_r, n_mu, X, G, 4)
-    return np.ascontiguousarray(np.moveaxis(t, 3, 0).reshape(-1, n_mu, n_nu * n_mu_s, 4))
+    x = n_nu * n_mu_s
+    t = pad_groups(np.asarray(table).reshape(n_r, n_mu, x, -1))               # (n_r, n_mu, X, G, 4)
+    volume = np.moveaxis(t, 3, 0).reshape(-1, n_mu, x, 4)
+    if odd_width and x > 1 and x & (x - 1) == 0:
+        volume = np.concatenate([volume, np.zeros_like(volume[:, :, :1])], axis=2)
+    return np.ascontiguousarray(volume)
 
 
 #: OpenGL internal format of half-float RGBA textures (for the precision and speed comparison only).
