@@ -7,12 +7,12 @@ per pixel and per vertex, beside a plain textured sphere timed in the same run.
 Views: Earth from orbit (4 radii, 30 deg: the planet fills ~40% of the frame), from the ground (2 m, looking
 along the horizon: the whole frame is sky and ground), the same in twilight (the sun 3 deg below the horizon
 ahead: every ray's single scattering by quadrature, docs/tables.md) and from 1e9 m (the planet a few pixels
-wide); the sun as the scene places it by default except in twilight. The plain
-sphere is PyVista's textured sphere with VTK's default lighting and the same Earth texture, seen from the orbit
-view: what a globe without an atmosphere costs, drawn in its own window in each round of per-vertex frames (one with
-the camera just turned by 0.5 deg about its focal point, the way a drag in the window turns it, back and forth
-from round to round so the view stays; one with it still), so that each ratio to it is measured over the same seconds (this
-machine's speed drifts by 10-30% between runs). Median ms per frame over ``--frames`` rounds (``--pixel-frames``
+wide); the sun as the scene places it by default except in twilight. The plain sphere is PyVista's textured
+sphere with VTK's default lighting and the same Earth texture, seen from the orbit view: what a globe without an
+atmosphere costs, drawn in its own window in each round of per-vertex frames (one with the camera just turned by
+0.5 deg about its focal point, the way a drag in the window turns it, back and forth from round to round so the
+view stays; one with it still), so that each ratio to it is measured over the same seconds (this machine's speed
+drifts by 10-30% between runs). Median ms per frame over ``--frames`` rounds (``--pixel-frames``
 frames for the per-pixel renderer, at 1-4 s per frame on llvmpipe), each frame finished with WaitForCompletion,
 after one warm-up frame (shader compile and table upload). Multisampling is off everywhere (PyVista's default of 8
 samples triples llvmpipe's frame time).
@@ -34,8 +34,8 @@ from planetviz.render.surface import surface_texture  # noqa: E402
 def frame_ms(window, frames, camera=None, plain=None):
     """Median ms per frame of ``window``. With ``camera`` and ``plain`` (another window), each round draws three
     frames: ``window`` after turning ``camera`` by 0.5 deg about its focal point (a camera in motion: the
-    per-vertex renderer recomputes its mesh), ``window`` again with the camera still, and ``plain``; the three medians (moving, still,
-    plain) are then measured over the same seconds."""
+    per-vertex renderer recomputes its mesh), ``window`` again with the camera still, and ``plain``; the three
+    medians (moving, still, plain) are then measured over the same seconds."""
     windows = [window] if plain is None else [window, window, plain]
     for w in windows:
         w.Render()

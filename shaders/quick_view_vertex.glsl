@@ -33,8 +33,9 @@
 //                                 [-1, 1] (GROUND_SKY_COLUMNS columns), one row per group
 //   multiple_scattering_size  vec2  (n_mu_s, n_h) of multiple_scattering_texture
 // Constants, defined before this file (planetviz/render/quick_view_actor.py shader_constants): MAX_COMPONENTS,
-// PROFILE_TABLE_SIZE, MAX_SAMPLES, the profile kinds, and from the atmosphere, so that the loops over the components unroll and each evaluates its own profile only (a
-// software renderer runs both sides of a branch, even one on a uniform):
+// PROFILE_TABLE_SIZE, MAX_SAMPLES, the profile kinds, and from the atmosphere, so that the loops over the
+// components unroll and each evaluates its own profile only (a software renderer runs both sides of a branch, even
+// one on a uniform):
 //   component_count        int    extinction components (Rayleigh, Mie, then absorbers), at most MAX_COMPONENTS
 //   component_kinds        int[MAX_COMPONENTS]  each component's profile: EXPONENTIAL_PROFILE, TENT_PROFILE or
 //                                 TABULATED_PROFILE

@@ -14,7 +14,8 @@ from conftest import draft_earth_tables
 from planetviz import load_atmosphere
 from planetviz.reference.optical_depth import optical_depth
 from planetviz.tables import QUALITY, precompute
-from planetviz.tables.inscatter_factor import (IRRADIANCE_SUBROWS, SHARE_ALTITUDE_STEP, PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS,
+from planetviz.tables.inscatter_factor import (IRRADIANCE_SUBROWS, PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS,
+                                               SHARE_ALTITUDE_STEP,
                                                irradiance_row_index, irradiance_rows, path_opacity_altitude,
                                                path_opacity_rays, path_opacity_table, path_opacity_u,
                                                path_scattering_share, phase_factor_table, phase_factor_u,

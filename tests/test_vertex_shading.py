@@ -319,10 +319,16 @@ def test_the_path_opacity_table_follows_the_camera_altitude(vertex):
     np.testing.assert_allclose(moved, want, rtol=1e-5, atol=0)   # the same draw: equal but for float rounding
 
 
-#: The rows of docs/benchmarks.md's per-vertex accuracy table that miss the issue's targets (what limits them is
-#: written there): their tests fail as expected, and strictly, so that a change that brings one within the targets
-#: says so.
-KNOWN_MISSES = {("earth", "orbit, terminator"), ("exo-co2-thick", "orbit, day"), ("exo-co2-thick", "orbit, terminator")}
+#: The rows of docs/benchmarks.md's per-vertex accuracy table that miss the issue's targets, and which of the two
+#: they miss (1280x720, standard: Earth's terminator 1.3% RMS, p99 2.0%; the thick planet by day 1.4% / 4.1% and at
+#: its terminator 1.1% / 4.1%). What limits them is written there: on the night side of the limb the halo's light
+#: comes from air lit high along the ray, which neither the ray's scattering opacity nor the sky irradiance at its
+#: nearest point follows, and over the ground's twilight band the inscatter falls several times across a triangle.
+KNOWN_MISSES = {("earth", "orbit, terminator"): {"rms"},
+                ("exo-co2-thick", "orbit, day"): {"rms", "p99"},
+                ("exo-co2-thick", "orbit, terminator"): {"rms", "p99"}}
+#: The issue's targets: RMS and 99th percentile of the floored relative difference.
+TARGETS = {"rms": 0.01, "p99": 0.03}
 
 
 @pytest.fixture(scope="module")
@@ -336,19 +342,28 @@ def both_renderers_1280():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("preset,view", [
-    pytest.param(p, v, marks=pytest.mark.xfail(strict=True, reason="a known miss (docs/benchmarks.md)"))
-    if (p, v) in KNOWN_MISSES else (p, v)
-    for p in ("earth", "mars", "exo-co2-thick") for v in VIEWS])
+@pytest.mark.parametrize("preset", ["earth", "mars", "exo-co2-thick"])
+@pytest.mark.parametrize("view", list(VIEWS))
 def test_every_view_class_per_vertex_is_the_per_pixel_picture(both_renderers_1280, preset, view):
     # The targets, in the frames of docs/benchmarks.md's table (1280x720, standard tables, CIE Y, the
     # difference floored at 1% of the frame's 99th percentile): 1% RMS and 3% at the 99th percentile. Both sides
-    # read the same tables, so the bound is the interpolation's alone, with nothing to allow for noise.
+    # read the same tables, so the bound is the interpolation's alone, with nothing to allow for noise. Every figure
+    # a row meets is held to its target; a figure in KNOWN_MISSES that misses it marks the test as an expected
+    # failure, and one that meets it fails the test, so that the docs and KNOWN_MISSES are brought up to date.
     if preset not in both_renderers_1280:
         both_renderers_1280[preset] = tuple(
             Scene(preset, quality="standard", surface="texture", off_screen=True, window_size=(1280, 720),
                   shading=shading) for shading in ("pixel", "vertex"))
     pixel, vertex = (view_luminance(scene, VIEWS[view]) for scene in both_renderers_1280[preset])
     difference = floored_difference(vertex, pixel)
-    assert np.sqrt(np.mean(difference ** 2)) <= 0.01
-    assert np.percentile(difference, 99) <= 0.03
+    figures = {"rms": np.sqrt(np.mean(difference ** 2)), "p99": np.percentile(difference, 99)}
+    misses = KNOWN_MISSES.get((preset, view), set())
+    for name, value in figures.items():
+        if name not in misses:
+            assert value <= TARGETS[name], f"{name} {value:.4f} above the target {TARGETS[name]}"
+        elif value <= TARGETS[name]:
+            pytest.fail(f"{name} {value:.4f} now meets the target {TARGETS[name]}: take it out of KNOWN_MISSES "
+                        "and docs/benchmarks.md's list of misses")
+    if misses:
+        pytest.xfail(f"a known miss of the issue's targets ({', '.join(f'{n} {figures[n]:.4f}' for n in misses)}), "
+                     "docs/benchmarks.md 'Accuracy of per-vertex reading'")
