@@ -3,9 +3,10 @@
 // The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction of a
 // vertex of the direction mesh (direction_mesh.glsl), L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i
 // plus the sunlit ground, with the midpoint rule on the intervals of view_edges and each optical depth on those of
-// density_edges. With multiple_scattering = 1, the orders above the first from Hillaire's table
-// Psi_ms(h, mu_s) (planetviz/quick_view/multiple_scattering.py): sum_i Delta_i beta_s(h_i) Psi_ms
-// exp(-tau(x, p_i)), and the sky's irradiance on the ground E_sky(mu_s) added to the sun's. The ground's light is
+// density_edges. With multiple_scattering = 1, the orders above the first from the table of the mean radiance
+// Psi(h, mu_s) of the light scattered at least once (planetviz/quick_view/multiple_scattering.py):
+// sum_i Delta_i beta_s(h_i) Psi exp(-tau(x, p_i)), and the sky's irradiance on the ground E_sky(mu_s) added to the
+// sun's. The ground's light is
 // output per unit of the surface colour and split by the sun's cosine, as atmosphere_vertex.glsl does, for
 // quick_view_fragment.glsl to complete per pixel with the surface texture and the terminator.
 //
@@ -26,11 +27,12 @@
 //                                 uploaded already scaled, planetviz/quick_view/single_scattering.py _coefficients)
 //   multiple_scattering    int    1: add the orders above the first and the sky's light on the ground; 0: single
 //                                 scattering alone (Keller and Bohn)
-//   multiple_scattering_texture  sampler2D  Psi_ms [1/sr per unit solar irradiance], rows: altitudes
-//                                 H (i / (n_h - 1))^2 (H the thickness), columns: mu_s = sign(x) x^2, x uniform in
-//                                 [-1, 1]; groups of four wavelengths stacked along y (textures.py pack_2d)
-//   ground_sky_texture     sampler2D  E_sky [per unit solar irradiance] over mu_s = sign(x) x^2, x uniform in
-//                                 [-1, 1] (GROUND_SKY_COLUMNS columns), one row per group
+//   multiple_scattering_texture  sampler2D  log Psi (Psi [1/sr per unit solar irradiance], at least LOG_FLOOR),
+//                                 rows: altitudes H (i / (n_h - 1))^2 (H the thickness), columns: mu_s =
+//                                 sign(x) x^2, x uniform in [-1, 1]; groups of four wavelengths stacked along y
+//                                 (textures.py pack_2d)
+//   ground_sky_texture     sampler2D  log E_sky (E_sky per unit solar irradiance, at least LOG_FLOOR) over mu_s =
+//                                 sign(x) x^2, x uniform in [-1, 1] (GROUND_SKY_COLUMNS columns), one row per group
 //   multiple_scattering_size  vec2  (n_mu_s, n_h) of multiple_scattering_texture
 // Constants, defined before this file (planetviz/render/quick_view_actor.py shader_constants): MAX_COMPONENTS,
 // PROFILE_TABLE_SIZE, MAX_SAMPLES, the profile kinds, and from the atmosphere, so that the loops over the
@@ -87,20 +89,22 @@ float cosine_coordinate(float mu) {
     return (sign(mu) * sqrt(abs(mu)) + 1.0) / 2.0;
 }
 
-// Psi_ms of group g at altitude h and sun zenith cosine mu_s: bilinear between texel centres, as read_table in NumPy.
+// Psi of group g at altitude h and sun zenith cosine mu_s: bilinear in its logarithm between texel centres, as
+// read_table(geometric=True) in NumPy.
 vec4 multiple_scattering_at(float h, float mu_s, int g) {
     vec2 n = multiple_scattering_size;
     float x = cosine_coordinate(mu_s) * (n.x - 1.0);
     float y = sqrt(clamp(h / (top_radius - bottom_radius), 0.0, 1.0)) * (n.y - 1.0);
     vec2 uv = vec2((x + 0.5) / n.x, (float(g) * n.y + y + 0.5) / (float(group_count) * n.y));
-    return texture(multiple_scattering_texture, uv);
+    return exp(texture(multiple_scattering_texture, uv));
 }
 
-// E_sky of group g on the ground where the sun's zenith cosine is mu_s (its texture has columns of its own).
+// E_sky of group g on the ground where the sun's zenith cosine is mu_s (its texture has columns of its own), read
+// geometrically as Psi.
 vec4 ground_sky_irradiance(float mu_s, int g) {
     float n = float(textureSize(ground_sky_texture, 0).x);
     float x = cosine_coordinate(mu_s) * (n - 1.0);
-    return texture(ground_sky_texture, vec2((x + 0.5) / n, (float(g) + 0.5) / float(group_count)));
+    return exp(texture(ground_sky_texture, vec2((x + 0.5) / n, (float(g) + 0.5) / float(group_count))));
 }
 
 // tau of group g along start + t direction, 0 <= t <= len, midpoint rule on density_edges.

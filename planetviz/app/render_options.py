@@ -21,6 +21,7 @@ from pathlib import Path
 from ..model.geometry import EYE_HEIGHT_M
 from ..model.presets import PRESETS
 from ..quick_view.multiple_scattering import ORDERS
+from ..quick_view.single_scattering import DEFAULT_SAMPLES
 from ..tables.compact import TABLE_KINDS
 
 
@@ -65,11 +66,11 @@ def add_render_options(p):
     p.add_argument("--shading", choices=("pixel", "vertex", "auto"), default=None,
                    help="tables read per pixel or per vertex (auto: per vertex on a software OpenGL); "
                         "default: pixel for pictures, auto for the window")
-    p.add_argument("--samples", type=int, default=8, help="quick: points per path")
+    p.add_argument("--samples", type=int, default=DEFAULT_SAMPLES, help="quick: points per path")
     p.add_argument("--terms", choices=("physical", "artistic"), default="physical",
                    help="quick: the atmosphere's physics, or Keller and Bohn's simplified Table 1 terms")
     p.add_argument("--quick-orders", choices=ORDERS, default="all",
-                   help="quick: all orders (single scattering and Hillaire's table for the orders above) or "
+                   help="quick: all orders (single scattering and a table of the orders above) or "
                         "single scattering alone")
     p.add_argument("--size", type=_size, default=(960, 540), help="WIDTHxHEIGHT")
     p.add_argument("--screenshot", default=None, help="PNG of the tone-mapped view (batch: the name's stem)")

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..quick_view.single_scattering import DEFAULT_SAMPLES
 from .render_options import set_view, view_keywords
 from .sky_images import sky_images, write_sky_image
 
@@ -48,7 +49,7 @@ class SceneSettings:
     size: tuple = (960, 540)
     method: str = "tables"
     shading: str = "pixel"
-    quick_samples: int = 8
+    quick_samples: int = DEFAULT_SAMPLES
     quick_terms: str = "physical"
     quick_orders: str = "all"
     tables: str = "4d"

@@ -1,32 +1,49 @@
-"""The quick view's estimate of the orders of scattering above the first, with no 4D tables: Hillaire's
-multiple-scattering table ("A Scalable and Production Ready Sky and Atmosphere Rendering Technique", EGSR 2020,
-Sect. 5.5), a 2D table Psi_ms(h, mu_s) computed in NumPy in tens of milliseconds.
+"""The quick view's estimate of the orders of scattering above the first, with no 4D tables: the mean radiance
+Psi(h, mu_s) of the light that has scattered at least once, for isotropic phase functions, a 2D table solved in
+NumPy in a few hundred milliseconds, and the sky's irradiance on the ground.
 
-At a point at altitude h with the sun at mu_s (cosine of its zenith angle), for unit solar irradiance at the top
-of the atmosphere, with p_u = 1 / (4 pi) the isotropic phase function:
+At a point x at altitude h with the sun at mu_s (cosine of its zenith angle), for unit solar irradiance at the top
+of the atmosphere, with isotropic phase functions (1 / (4 pi)), the radiance toward x along -omega of the light
+scattered at least once, its mean over the directions and the sky's irradiance on the ground are
 
-    L'(omega)  = int_0^D T(x, y) beta_s(y) p_u T_sun(y) dt  +  T(x, g) (albedo / pi) max(n . s, 0) T_sun(g)
-                 (light scattered once toward x along -omega, isotropically; g: the ground if the ray meets it)
-    f(omega)   = int_0^D T(x, y) beta_s(y) dt
-                 (the share of an isotropic radiance at x scattered back toward x along omega)
-    L_2        = mean over omega of L'(omega),        f_ms = mean over omega of f(omega)   (Eqs. 5, 7, 8)
-    Psi_ms     = L_2 / (1 - f_ms)                                                            (Eqs. 9, 10)
+    L(x, omega) = int_0^D T(x, y) beta_s(y) [T_sun(y) / (4 pi) + Psi(y)] dt                                    (1)
+                  + T(x, g) (albedo / pi) [max(n . s, 0) T_sun(g) + E(g)]    (g: the ground, if the ray meets it)
+    Psi(x)      = (1 / (4 pi)) int L(x, omega) d omega                                                           (2)
+    E(mu_s)     = int over the sky's half of L(ground, omega) cos(theta) d omega                                  (3)
 
-the second order with isotropic phase functions, times the geometric series of the orders above it with the same
-transfer f_ms at every order. The table is computed for the atmosphere with its particles' scattering scaled by
-the similarity principle to an isotropic phase function (:func:`transport_scaled`: beta_M^s (1 - g), beta_M^ext
-- g beta_M^s, g the phase function's mean cosine): a forward lobe sends most of the light on along the sun's
-direction, which the isotropic phase functions above would spread over the sphere (on the dusty Mars preset,
-unscaled, the quick view reads 40% RMS from the tables by day, 57% at 440 nm where g = 0.9; scaled, 19%:
-docs/benchmarks.md). Along a view ray the quick view then adds, at each of its points p_i,
+[1/sr per unit solar irradiance; E per unit solar irradiance]. Psi appears on both sides: (1)-(3) are a linear
+integral equation for Psi and E, spherically symmetric about the axis through the planet's centre and the sun, so
+that Psi depends on (h, mu_s) only and E on mu_s. Hillaire ("A Scalable and Production Ready Sky and Atmosphere
+Rendering Technique", EGSR 2020, Sect. 5.5) approximates its solution by one point's second order times the
+geometric series 1 / (1 - f_ms) of that point's own transfer; that misses the light diffusing down through an
+optically thick atmosphere (the 10-bar planet's sky from the ground read 30% off the tables). Here it is solved:
+the unknowns are Psi at the table's nodes (altitudes H (i / (n_h - 1))^2, H the thickness; mu_s on
+:func:`cosine_grid`) and E at its cosines; the quadrature of (1)-(3), with Psi, E and T_sun read bilinearly between
+the nodes, is a matrix K (:func:`transfer_matrix`), and
 
-    Delta_i beta_s(h_i) Psi_ms(h_i, mu_s,i) exp(-tau(x, p_i))                                  (Eq. 11)
+    (I - K) z = s                                                                                                 (4)
 
-with no shadow test (the light of the orders above the first reaches into the planet's shadow). Psi_ms [1/sr
-per unit solar irradiance, like radiance] is tabulated at altitudes h = H (i / (n_h - 1))^2 (H the thickness)
-and mu_s on :func:`cosine_grid` (dense near the horizon), and read bilinearly at texel centres as the GPU reads it
-(:func:`read_table`). T_sun comes from a transmittance table of the same kind (:func:`transmittance_table`).
-:func:`quick_view_tables` makes Psi_ms and the sky's irradiance on the ground (:func:`ground_sky_irradiance`).
+with z = (Psi, E) and s the light scattered once (T_sun / (4 pi) in (1), T_sun read at each step from a finer
+transmittance table: on the nodes, the sunset and the twilight of the 10-bar planet read 1.7 and 1.5 times as far
+from the tables) and the sunlit ground, is solved directly for each wavelength (:func:`multiple_scattering_table`): every order, in spherical geometry, so the twilight sky and
+the night side next to the terminator are lit (T_sun is zero where the planet hides the sun; nothing else is
+shadowed). The directions of (2) are Gauss-Legendre cosines on each hemisphere times azimuths over half the circle
+(:func:`direction_set`; the sun in the x-z plane makes L symmetric about it); along each ray the steps are at
+(k / n)^2 of its length from x, dense where the ray starts, each integrated exactly for coefficients constant over
+the step (:func:`step_weights`). The table is computed for the atmosphere with its particles' scattering scaled by
+the similarity principle to an isotropic phase function (:func:`transport_scaled`: beta_M^s (1 - g), beta_M^ext -
+g beta_M^s, g the phase function's mean cosine): a forward lobe sends most of the light on along the sun's
+direction, which isotropic phase functions would spread over the sphere.
+
+Along a view ray the quick view then adds, at each of its points p_i,
+
+    Delta_i beta_s(h_i) Psi(h_i, mu_s,i) exp(-tau(x, p_i))
+
+(planetviz/quick_view/single_scattering.py). Psi and the sky's irradiance on the ground for the view
+(:func:`ground_sky_irradiance`: single scattering with the atmosphere's own phase functions plus Psi) are read
+geometrically between the nodes (:func:`read_table` with ``geometric=True``: bilinear in their logarithms, stored so
+in the textures): in twilight they fall by about three times per degree of the sun's depression, and reading them
+linearly between two columns a degree apart lit the Earth's ground 10-15% too bright.
 """
 from __future__ import annotations
 
@@ -40,10 +57,18 @@ from .single_scattering import coefficients, sample_fractions
 #: What the quick view adds up: every order ("all": single scattering and this table for the orders above, with
 #: the sky's light on the ground) or Keller and Bohn's single scattering alone ("single").
 ORDERS = ("all", "single")
-#: Psi_ms table size (altitudes, sun zenith cosines), directions averaged, midpoints along each direction.
+#: Psi table size (altitudes, sun zenith cosines). 64 cosines or 24 altitudes change the pictures against the tables
+#: by at most 0.01 of RMS (docs/benchmarks.md) and cost 2-4 times as much.
 MS_SIZE = (16, 32)
-MS_DIRECTIONS = 64
-MS_STEPS = 16
+#: Directions of the mean (2): Gauss-Legendre zenith cosines per hemisphere, azimuths over half the circle.
+MS_DIRECTIONS = (8, 4)
+#: Steps along each ray and the exponent of their edges (k / n)^e from the ray's start: with equal steps the first
+#: one, opaque near the ground of an optically thick atmosphere, read Psi at its middle, where it is larger than
+#: where that step's light comes from (the 10-bar planet's ground read 1.6-1.9 times the tables' mean radiance).
+MS_STEPS = 24
+MS_STEP_EXPONENT = 2.0
+#: The least value stored where a table is read geometrically (its logarithm is interpolated).
+LOG_FLOOR = 1e-30
 #: Directions of the sky's irradiance on the ground: its single scattering has the particles' forward lobe, which
 #: 32 directions over the sky's half alias (Mars' sky irradiance jumps by 60% from one sun elevation to the next).
 GROUND_SKY_DIRECTIONS = 256
@@ -146,70 +171,134 @@ def transmittance_table(atm, size=TRANSMITTANCE_SIZE, steps=TRANSMITTANCE_STEPS)
     return np.where(ground[..., None], 0.0, np.exp(-tau * to_top[..., None]))
 
 
-def read_table(table, atm, h, mu):
-    """Bilinear read of a table (n_h, n_mu, W) over altitudes :func:`altitude_grid` and cosines :func:`cosine_grid`
-    at (h, mu) (...), clamped to its edges: (..., W). The same as a GPU's linear filtering at texel centres."""
-    n_h, n_mu = table.shape[:2]
+def table_coordinates(atm, n_h, n_mu, h, mu):
+    """(row i, column j, fractions fx, fy) of (h, mu) on a table's grid (:func:`altitude_grid` by
+    :func:`cosine_grid`), clamped to its edges, each (...): the lower node and the position between it and the
+    next, as a GPU's linear filtering reads between texel centres."""
     x = np.sqrt(np.clip(np.asarray(h) / atm.thickness_m, 0.0, 1.0)) * (n_h - 1)
     y = (cosine_coordinate(mu) + 1.0) / 2.0 * (n_mu - 1)
     i, j = np.minimum(x.astype(np.intp), n_h - 2), np.minimum(y.astype(np.intp), n_mu - 2)
-    fx, fy = (x - i).reshape(-1, 1), (y - j).reshape(-1, 1)
-    flat = np.asarray(table).reshape(n_h * n_mu, -1)
+    return i, j, x - i, y - j
+
+
+def read_table(table, atm, h, mu, geometric=False):
+    """Bilinear read of a table (n_h, n_mu, W) over altitudes :func:`altitude_grid` and cosines :func:`cosine_grid`
+    at (h, mu) (...), clamped to its edges: (..., W). The same as a GPU's linear filtering at texel centres;
+    ``geometric``: bilinear in the logarithm of the table (values below :data:`LOG_FLOOR` read as it), as the quick
+    view's shader reads its textures of Psi and E_sky."""
+    table = np.log(np.maximum(table, LOG_FLOOR)) if geometric else np.asarray(table)
+    n_h, n_mu = table.shape[:2]
+    i, j, fx, fy = table_coordinates(atm, n_h, n_mu, h, mu)
+    fx, fy = fx.reshape(-1, 1), fy.reshape(-1, 1)
+    flat = table.reshape(n_h * n_mu, -1)
     k = (i * n_mu + j).ravel()
     low = flat.take(k, axis=0)
     low += fy * (flat.take(k + 1, axis=0) - low)
     high = flat.take(k + n_mu, axis=0)
     high += fy * (flat.take(k + n_mu + 1, axis=0) - high)
     low += fx * (high - low)
-    return low.reshape(np.shape(x) + table.shape[2:])
+    out = low.reshape(np.shape(i) + table.shape[2:])
+    return np.exp(out) if geometric else out
+
+
+def direction_set(n_zenith=MS_DIRECTIONS[0], n_azimuth=MS_DIRECTIONS[1]):
+    """(directions (D, 3), weights (D,)) for the mean over the sphere of a function symmetric about the x-z plane:
+    ``n_zenith`` Gauss-Legendre cosines on each hemisphere (dense toward the horizon, where the rays are long, and
+    the zenith) times ``n_azimuth`` azimuths at the midpoints of [0, pi]; the weights sum to 1.
+
+    >>> d, w = direction_set()
+    >>> d.shape, round(w.sum(), 12)
+    ((64, 3), 1.0)
+    """
+    x, w = np.polynomial.legendre.leggauss(n_zenith)
+    mu = np.concatenate([(x - 1.0) / 2.0, (x + 1.0) / 2.0])
+    w_mu = np.concatenate([w, w]) / 4.0                                 # the mean over mu in [-1, 1]
+    phi = (np.arange(n_azimuth) + 0.5) * np.pi / n_azimuth
+    m, p = np.meshgrid(mu, phi, indexing="ij")
+    s = np.sqrt(1.0 - m * m)
+    directions = np.stack([s * np.cos(p), s * np.sin(p), m], axis=-1).reshape(-1, 3)
+    return directions, np.repeat(w_mu / n_azimuth, n_azimuth)
+
+
+def transfer_matrix(atm, size=MS_SIZE, directions=MS_DIRECTIONS, steps=MS_STEPS):
+    """(K (W, N, N), s (N, W)) of Eq. (4) in the module's docstring for ``atm`` (already scaled), N = n_h n_mu_s +
+    n_mu_s: z = (Psi at node (i, j) as row i n_mu_s + j, then E at each cosine j), K z the quadrature of (1)-(3)
+    for that z with the sun's terms left out, s the sun's terms: the light scattered once and the sunlit ground.
+
+    Rows of Psi: for each node's directions omega (weights w_d, :func:`direction_set`) and steps along them, the
+    step's weight w_d int beta_s T dt (:func:`step_weights`) spread over the four nodes around the step's midpoint
+    (h, mu_s) by their bilinear weights; where the ray meets the ground, w_d T(x, g) albedo / pi on the two cosines
+    of E around the ground point's mu_s. Rows of E: the ground node's upward directions with w_d 4 pi cos(theta)
+    in place of w_d (Eq. 3)."""
+    b_r, b_m, extinction = coefficients(atm, "physical")
+    n_h, n_mu = size
+    n_psi = n_h * n_mu
+    n = n_psi + n_mu
+    R = atm.bottom_radius_m
+    r = R + altitude_grid(atm, n_h)[:, None]                            # (n_h, 1)
+    omega, w_dir = direction_set(*directions)                           # (D, 3), (D,)
+    mu = omega[None, :, 2]
+    length, ground = ray_length(atm, r, mu)                             # (n_h, D)
+    mid, width = sample_fractions(steps, MS_STEP_EXPONENT)
+    t, dt = length[..., None] * mid, length[..., None] * width          # (n_h, D, S)
+    rr = r[..., None]
+    r_t = np.sqrt(t * t + 2.0 * rr * mu[..., None] * t + rr * rr)
+    h_t = np.maximum(r_t - R, 0.0)
+    step_tau = _extinction(extinction, h_t) * dt[..., None]
+    weight = step_weights(_scattering(atm, b_r, b_m, h_t), dt, step_tau) * w_dir[:, None, None]   # (n_h, D, S, W)
+    t_ray = np.exp(-step_tau.sum(axis=2)) * w_dir[:, None]             # (n_h, D, W)
+    mu_s = cosine_grid(n_mu)
+    sun = np.stack([np.sqrt(1.0 - mu_s ** 2), np.zeros(n_mu), mu_s], axis=-1)     # (M, 3)
+    nu = sun @ omega.T                                                  # (M, D)
+    # The sun's zenith cosine at each step's midpoint, (r mu_s + t nu) / r_t, and its four nodes.
+    mu_s_t = np.clip((rr[:, None] * mu_s[None, :, None, None] + t[:, None] * nu[None, :, :, None]) / r_t[:, None],
+                     -1.0, 1.0)                                         # (n_h, M, D, S)
+    i, j, fx, fy = table_coordinates(atm, n_h, n_mu, np.broadcast_to(h_t[:, None], mu_s_t.shape), mu_s_t)
+    node = i * n_mu + j
+    corners = [(node, (1 - fx) * (1 - fy)), (node + 1, (1 - fx) * fy), (node + n_mu, fx * (1 - fy)),
+               (node + n_mu + 1, fx * fy)]
+    row = (np.arange(n_h)[:, None] * n_mu + np.arange(n_mu))[:, :, None, None]
+    up = np.maximum(omega[:, 2], 0.0) * 4.0 * np.pi                     # Eq. (3)'s factor per direction
+    e_row = n_psi + np.arange(n_mu)[:, None, None]
+    # The ground where a direction meets it: E at the ground point's mu_s, linear between two cosines.
+    mu_s_g = np.clip((r[:, None, :] * mu_s[None, :, None] + length[:, None, :] * nu[None]) / R, -1.0, 1.0)
+    _, j_g, _, f_g = table_coordinates(atm, 2, n_mu, np.zeros_like(mu_s_g), mu_s_g)
+    g_row = np.broadcast_to(row[..., 0], mu_s_g.shape)
+    seen = ground[:, None, :, None] * t_ray[:, None] * (np.asarray(atm.ground_albedo) / np.pi)   # (n_h, M, D, W)
+    index = np.concatenate([(row * n + c).ravel() for c, _ in corners]
+                           + [(e_row * n + c[0]).ravel() for c, _ in corners]
+                           + [(g_row * n + n_psi + j_g).ravel(), (g_row * n + n_psi + j_g + 1).ravel()])
+    t_sun = read_table(transmittance_table(atm), atm, np.broadcast_to(h_t[:, None], mu_s_t.shape), mu_s_t)
+    once = np.einsum("hmdsw,hdsw->hmdw", t_sun, weight) / (4.0 * np.pi)      # (n_h, M, D, W)
+    W = weight.shape[-1]
+    K = np.empty((W, n, n))
+    for w in range(W):
+        values = np.concatenate([(weight[:, None, :, :, w] * f).ravel() for _, f in corners]
+                                + [(weight[0, None, :, :, w] * up[:, None] * f[0]).ravel() for _, f in corners]
+                                + [(seen[..., w] * (1 - f_g)).ravel(), (seen[..., w] * f_g).ravel()])
+        K[w] = np.bincount(index, values, n * n).reshape(n, n)
+    sunlit = seen * (np.maximum(mu_s_g, 0.0)[..., None] * read_table(transmittance_table(atm), atm,
+                                                                     np.zeros_like(mu_s_g), mu_s_g))
+    s_psi = (once + sunlit).sum(axis=2).reshape(n_psi, W)
+    s_e = np.einsum("mdw,d->mw", once[0], up)
+    return K, np.concatenate([s_psi, s_e])
 
 
 def multiple_scattering_table(atm, size=MS_SIZE, directions=MS_DIRECTIONS, steps=MS_STEPS):
-    """Psi_ms (n_h, n_mu_s, W) [1/sr per unit solar irradiance] of ``atm``'s :func:`transport_scaled` atmosphere
-    (the module's docstring gives the equations).
+    """Psi (n_h, n_mu_s, W) [1/sr per unit solar irradiance] of ``atm``'s :func:`transport_scaled` atmosphere:
+    Eq. (4) of the module's docstring solved for each wavelength.
 
     Example
     -------
     >>> from planetviz import load_atmosphere
     >>> psi = multiple_scattering_table(load_atmosphere("earth"))
     >>> psi.shape
-    (16, 32, 3)
+    (16, 64, 3)
     """
-    atm = transport_scaled(atm)
-    b_r, b_m, extinction = coefficients(atm, "physical")
-    t_sun_table = transmittance_table(atm)
-    n_h, n_mu_s = size
-    R = atm.bottom_radius_m
-    r = R + altitude_grid(atm, n_h)[:, None]                         # (n_h, 1)
-    omega = fibonacci_sphere(directions)                               # (D, 3), z: the local vertical
-    mu = omega[None, :, 2]                                             # (1, D)
-    length, ground = ray_length(atm, r, mu)                            # (n_h, D)
-    mid, width = sample_fractions(steps, 1.0)
-    t = length[..., None] * mid                                        # (n_h, D, S)
-    dt = length[..., None] * width
-    rr = r[..., None]
-    r_t = np.sqrt(t * t + 2.0 * rr * mu[..., None] * t + rr * rr)
-    h_t = np.maximum(r_t - R, 0.0)
-    beta_s = _scattering(atm, b_r, b_m, h_t)                          # (n_h, D, S, W)
-    step_tau = _extinction(extinction, h_t) * dt[..., None]
-    weight = step_weights(beta_s, dt, step_tau)                        # int over the step of beta_s T(x, y) dt
-    f = weight.sum(axis=2)
-    mu_s = cosine_grid(n_mu_s)
-    sun = np.stack([np.sqrt(1.0 - mu_s ** 2), np.zeros(n_mu_s), mu_s], axis=-1)     # (M, 3)
-    nu = sun @ omega.T                                                 # (M, D)
-    # The sun's zenith cosine at each point: (r mu_s + t nu) / r_t.
-    mu_s_t = (rr[:, None] * mu_s[None, :, None, None] + t[:, None] * nu[None, :, :, None]) / r_t[:, None]
-    t_sun = read_table(t_sun_table, atm, np.broadcast_to(h_t[:, None], mu_s_t.shape), mu_s_t)   # (h, M, D, S, W)
-    lit = np.einsum("hmdsw,hdsw->hmdw", t_sun, weight) / (4.0 * np.pi)
-    # The ground where the direction meets it: sunlit Lambertian, seen through the whole ray.
-    mu_s_g = (r[:, None, :] * mu_s[None, :, None] + length[:, None, :] * nu[None]) / R          # (h, M, D)
-    t_sun_g = read_table(t_sun_table, atm, np.zeros_like(mu_s_g), mu_s_g)
-    ground_light = (ground[:, None, :, None] * np.asarray(atm.ground_albedo) / np.pi
-                    * np.maximum(mu_s_g, 0.0)[..., None] * t_sun_g
-                    * np.exp(-step_tau.sum(axis=2))[:, None])
-    second = (lit + ground_light).mean(axis=2)                         # L_2 (n_h, M, W)
-    f_ms = f.mean(axis=1)                                              # (n_h, W)
-    return second / (1.0 - np.minimum(f_ms, 0.999))[:, None, :]
+    K, s = transfer_matrix(transport_scaled(atm), size, directions, steps)
+    n = K.shape[1]
+    z = np.stack([np.linalg.solve(np.eye(n) - K[w], s[:, w]) for w in range(K.shape[0])], axis=-1)
+    return np.maximum(z[:size[0] * size[1]], 0.0).reshape(*size, -1)
 
 
 def ground_sky_irradiance(atm, psi, transmittance, columns=GROUND_SKY_COLUMNS, directions=GROUND_SKY_DIRECTIONS,
@@ -217,7 +306,8 @@ def ground_sky_irradiance(atm, psi, transmittance, columns=GROUND_SKY_COLUMNS, d
     """E_sky (columns, W): the irradiance of the sky on the ground per unit solar irradiance, at the mu_s of
     :func:`cosine_grid` (``columns``): the sum over the upward directions omega of the :func:`fibonacci_sphere` of
     L(omega) cos(theta) 4 pi / D, with L(omega) the single scattering (the atmosphere's phase functions) and
-    the orders above it (``psi``) along omega, as the quick view computes them on a view ray."""
+    the orders above it (``psi``, read geometrically) along omega, as the quick view computes them on a view ray,
+    with the steps of :data:`MS_STEPS`."""
     b_r, b_m, extinction = coefficients(atm, "physical")
     n_mu_s = columns
     R = atm.bottom_radius_m
@@ -225,7 +315,7 @@ def ground_sky_irradiance(atm, psi, transmittance, columns=GROUND_SKY_COLUMNS, d
     omega = omega[omega[:, 2] > 0.0]                                   # (U, 3) the sky's half
     mu = omega[:, 2]
     length, _ = ray_length(atm, np.full(mu.shape, R), mu)             # (U,)
-    mid, width = sample_fractions(steps, 1.0)
+    mid, width = sample_fractions(steps, MS_STEP_EXPONENT)
     t, dt = length[:, None] * mid, length[:, None] * width            # (U, S)
     r_t = np.sqrt(t * t + 2.0 * R * mu[:, None] * t + R * R)
     h_t = np.maximum(r_t - R, 0.0)
@@ -244,5 +334,5 @@ def ground_sky_irradiance(atm, psi, transmittance, columns=GROUND_SKY_COLUMNS, d
     # The phase functions weight each component's share of beta_s: J / beta_s = (beta_R P_R + beta_M P_M) / beta_s.
     share_r = np.divide(rho_r[..., None] * b_r, beta_s, out=np.zeros_like(beta_s), where=beta_s > 0)
     phase = share_r[None] * p_r[:, :, None] + (1.0 - share_r[None]) * p_m[:, :, None]
-    radiance = np.einsum("musw,usw->muw", phase * t_sun + read_table(psi, atm, h_b, mu_s_t), weight)
+    radiance = np.einsum("musw,usw->muw", phase * t_sun + read_table(psi, atm, h_b, mu_s_t, geometric=True), weight)
     return np.einsum("muw,u->mw", radiance, mu) * 4.0 * np.pi / directions

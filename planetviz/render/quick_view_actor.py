@@ -2,10 +2,10 @@
 of the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/quick_view_vertex.glsl, the
 twin of planetviz/quick_view/single_scattering.py), with no 4D tables, so every atmosphere parameter takes effect at
 the next frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the
-ground from Hillaire's 2D table (planetviz/quick_view/multiple_scattering.py), computed in NumPy in a background
-job that the scene starts after the actor's first frame (planetviz/render/background.py): that frame shows single
-scattering, the frames after the table is ready
-(:meth:`QuickViewActor.collect`, about 0.1 s later) all orders. The inscatter and the ground's light per unit of
+ground from a 2D table of the mean radiance of the light scattered at least once
+(planetviz/quick_view/multiple_scattering.py), solved in NumPy in a background job that the scene starts after the
+actor's first frame (planetviz/render/background.py): that frame shows single scattering, the frames after the table
+is ready (:meth:`QuickViewActor.collect`, about 0.5 s later) all orders. The inscatter and the ground's light per unit of
 the surface colour are interpolated over the triangles and completed per fragment (shaders/quick_view_fragment.glsl)
 with the surface texture (or the file's uniform albedo) and the sun's cosine at the pixel's ground point, as the
 per-vertex table renderer does; no sun disc.
@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
-from ..quick_view.multiple_scattering import GROUND_SKY_COLUMNS, MS_SIZE, ORDERS, quick_view_tables
-from ..quick_view.single_scattering import MAX_SAMPLES, SAMPLING, check_settings, coefficients
+from ..quick_view.multiple_scattering import GROUND_SKY_COLUMNS, LOG_FLOOR, MS_SIZE, ORDERS, quick_view_tables
+from ..quick_view.single_scattering import DEFAULT_SAMPLES, MAX_SAMPLES, SAMPLING, check_settings, coefficients
 from .background import BackgroundJob
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
@@ -71,7 +71,7 @@ class QuickViewActor(DirectionMeshActor):
     ``"all"`` or ``"single"`` (:data:`ORDERS`; the artistic terms are single scattering only); ``surface``: an
     (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the file's uniform albedo."""
 
-    def __init__(self, atmosphere, renderer, samples=8, density_samples=None, sampling="power", terms="physical",
+    def __init__(self, atmosphere, renderer, samples=DEFAULT_SAMPLES, density_samples=None, sampling="power", terms="physical",
                  settings=None, orders="all", surface=None):
         self.samples, self.density_samples = check_settings(samples, density_samples, sampling, terms)
         if orders not in ORDERS:
@@ -158,18 +158,20 @@ class QuickViewActor(DirectionMeshActor):
         return True
 
     def bind(self, program):
-        """Upload the textures not yet on the GPU (Psi_ms and E_sky: zeros until their table is ready, or for single
-        scattering alone; the surface), activate them and point the samplers at them."""
+        """Upload the textures not yet on the GPU (the logarithms of Psi and E_sky, which the shader reads
+        geometrically: zeros until their table is ready, or for single scattering alone, and unread then; the
+        surface), activate them and point the samplers at them."""
         window = self.renderer.GetRenderWindow()
         if "surface_faces" not in self._textures:
             self._textures["surface_faces"] = upload(window, self._cube(), srgb=True, layers=True)
         if "multiple_scattering_texture" not in self._textures:
             shape = (*MS_SIZE, self.atmosphere.n_wavelengths)
-            psi = self.multiple if self.multiple is not None else np.zeros(shape, np.float32)
-            sky = (self.ground_sky if self.ground_sky is not None
+            log = lambda table: np.log(np.maximum(table, LOG_FLOOR)).astype(np.float32)
+            psi = log(self.multiple) if self.multiple is not None else np.zeros(shape, np.float32)
+            sky = (log(self.ground_sky) if self.ground_sky is not None
                    else np.zeros((GROUND_SKY_COLUMNS, self.atmosphere.n_wavelengths), np.float32))
-            self._textures["multiple_scattering_texture"] = upload(window, pack_2d(psi.astype(np.float32)))
-            self._textures["ground_sky_texture"] = upload(window, pack_2d(sky[None].astype(np.float32)))
+            self._textures["multiple_scattering_texture"] = upload(window, pack_2d(psi))
+            self._textures["ground_sky_texture"] = upload(window, pack_2d(sky[None]))
         for name, tex in self._textures.items():
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())

@@ -18,6 +18,7 @@ from ..model.presets import load_atmosphere
 from ..model.color import linear_srgb
 from ..model.optics.light import star_irradiance
 from ..quick_view.multiple_scattering import ORDERS
+from ..quick_view.single_scattering import DEFAULT_SAMPLES
 from ..tables.cache import TableCache, parameters_hash, stage_parameters
 from ..tables.compact import TABLE_KINDS, tables_of_kind
 from ..tables.precompute import QUALITY, is_cached, precompute
@@ -88,7 +89,7 @@ class PlanetView:
 
 
     def __init__(self, atmosphere="earth", quality="standard", surface="texture", exposure=1e-4,
-                 tone_mapping="exponential", cache=True, method="tables", shading="pixel", quick_samples=8,
+                 tone_mapping="exponential", cache=True, method="tables", shading="pixel", quick_samples=DEFAULT_SAMPLES,
                  quick_terms="physical", quick_orders="all", tables="4d", **kwargs):
         self._job = None                      # a background precompute (render() may run inside __init__)
         self.planet = None                    # the table-based actor (None while its tables are computed)
@@ -502,7 +503,7 @@ class Scene(PlanetView, pv.Plotter):
         ``"pixel"``; decided after the first frame).
     quick_samples, quick_terms, quick_orders : int, str, str
         The quick view's points per path, terms (``"physical"`` or Keller and Bohn's ``"artistic"``) and orders
-        of scattering (``"all"``: single scattering and Hillaire's table for the orders above, with the sky's
+        of scattering (``"all"``: single scattering and a table of the orders above, with the sky's
         light on the ground; ``"single"``: Keller and Bohn's single scattering alone).
     tables : str
         Which tables are drawn: ``"4d"`` (the precomputed 4D tables) or ``"compact"`` (Atmosphere Plus's 3D tables

@@ -36,19 +36,50 @@ def disort_radiance(atm, w, mu0, views, n_quad=64, layers=120):
     Nakajima-Tanaka correction where the particles scatter, the Lambertian ground as its zeroth BDRF mode; the
     direct beam excluded. 64 streams against 128 differ by at most 0.3% (median 2e-5, ../shared/notes/disort.md).
     """
-    from PythonicDISORT import pydisort
     from PythonicDISORT.subroutines import interpolate
+    u, _, tau_cum, peaked = _solve(atm, w, mu0, n_quad, layers)
+    u = interpolate(u, NT_cor="eval" if peaked else None)
+    return np.array([u(mu, t * tau_cum[-1], phi).item() for mu, phi, t in views])
+
+
+def disort_mean_radiance(atm, w, mu0, heights_m, n_quad=64, layers=120):
+    """The mean over all directions of the diffuse radiance, (1 / 2) int u0 dmu [1/sr per unit irradiance normal to
+    the beam], at wavelength index w from PythonicDISORT at the altitudes ``heights_m``, with its own quadrature
+    (Gauss-Legendre cosines on each hemisphere) over its zeroth Fourier mode u0; the same atmosphere and layers as
+    :func:`disort_radiance`, for particles without a truncated lobe (no delta-M: u0 is then the radiance's
+    azimuthal mean)."""
+    _, u0, tau_cum, peaked = _solve(atm, w, mu0, n_quad, layers)
+    if peaked:
+        raise ValueError("disort_mean_radiance: particles with a forward lobe would need delta-M's reclassification")
+    tau = _optical_depth_from_top(atm, w, np.asarray(heights_m, dtype=float))
+    x, weights = np.polynomial.legendre.leggauss(n_quad // 2)
+    return 0.25 * np.sum(np.concatenate([weights, weights])[:, None] * u0(tau), axis=0)
+
+
+def _column(ext, profile, low, high):
+    """The optical depth of an exponential component between altitudes low and high [m]."""
+    h = profile.scale_height_m
+    return ext * h * (np.exp(-low / h) - np.exp(-high / h))
+
+
+def _optical_depth_from_top(atm, w, heights):
+    """Extinction optical depth from the top of the atmosphere down to ``heights`` at wavelength index w."""
+    top = atm.thickness_m
+    return (_column(atm.rayleigh.scattering_m[w], atm.rayleigh.profile, heights, top)
+            + _column(atm.mie.extinction_m[w], atm.mie.profile, heights, top))
+
+
+def _solve(atm, w, mu0, n_quad, layers):
+    """PythonicDISORT's (u, u0, cumulative optical depth of the layers, whether delta-M and NT were used) for the
+    layers of :func:`disort_radiance`."""
+    from PythonicDISORT import pydisort
     z_top = atm.thickness_m
     x = np.linspace(0.0, 1.0, layers + 1)
     edges = z_top * np.expm1(6.0 * x) / np.expm1(6.0)
     top, bottom = edges[::-1][:-1], edges[::-1][1:]                       # layers from the top down
-
-    def column(ext, profile):
-        h = profile.scale_height_m
-        return ext * h * (np.exp(-bottom / h) - np.exp(-top / h))
-    tau_r = column(atm.rayleigh.scattering_m[w], atm.rayleigh.profile)
-    tau_ms = column(atm.mie.scattering_m[w], atm.mie.profile)
-    tau_me = column(atm.mie.extinction_m[w], atm.mie.profile)
+    tau_r = _column(atm.rayleigh.scattering_m[w], atm.rayleigh.profile, bottom, top)
+    tau_ms = _column(atm.mie.scattering_m[w], atm.mie.profile, bottom, top)
+    tau_me = _column(atm.mie.extinction_m[w], atm.mie.profile, bottom, top)
     tau = tau_r + tau_me
     omega = np.minimum((tau_r + tau_ms) / tau, 1.0 - 1e-8)
     n_leg = n_quad + 1
@@ -59,15 +90,14 @@ def disort_radiance(atm, w, mu0, views, n_quad=64, layers=120):
     mie = alpha * g1 ** ell + (1.0 - alpha) * g2 ** ell
     leg = (tau_r[:, None] * rayleigh + tau_ms[:, None] * mie) / np.maximum(tau_r + tau_ms, 1e-300)[:, None]
     tau_cum = np.cumsum(tau)
-    peaked = atm.mie.scattering_m[w] > 0.0                  # delta-M and NT only where a lobe is truncated
+    peaked = atm.mie.scattering_m[w] > 0.0 and (g1 != 0.0 or g2 != 0.0)   # delta-M and NT only for a lobe
     with warnings.catch_warnings():
         # omega = 1 - 1e-8 in the pure Rayleigh layers is the note's recipe for a conservative scatterer.
         warnings.filterwarnings("ignore", message="Some delta-scaled single-scattering albedos")
-        _, _, _, _, u = pydisort(tau_cum, omega, n_quad, leg, mu0, 1.0, 0.0, NLeg=n_quad,
-                                 f_arr=leg[:, n_quad] if peaked else 0.0, NT_cor=peaked,
-                                 BDRF_Fourier_modes=[float(atm.ground_albedo[w])])
-    u = interpolate(u, NT_cor="eval" if peaked else None)
-    return np.array([u(mu, t * tau_cum[-1], phi).item() for mu, phi, t in views])
+        _, _, _, u0, u = pydisort(tau_cum, omega, n_quad, leg, mu0, 1.0, 0.0, NLeg=n_quad,
+                                  f_arr=leg[:, n_quad] if peaked else 0.0, NT_cor=peaked,
+                                  BDRF_Fourier_modes=[float(atm.ground_albedo[w])])
+    return u, u0, tau_cum, peaked
 
 
 def ground_and_top_views(atm, zeniths_deg=(20.0, 55.0, 78.0), azimuths_deg=(0.0, 90.0, 180.0)):
