@@ -13,6 +13,7 @@ radiances above 1e-5 / sr, RMS: against the deterministic single-scattering inte
 each view path and n on each optical-depth path.
 """
 import argparse
+import itertools
 import os
 import sys
 import time
@@ -54,7 +55,7 @@ def accuracy(presets, plot):
         for sampling in ("power", "equidistant"):
             for n in SAMPLES:
                 t0 = time.perf_counter()
-                L, _ = quick_view_radiance(atm, *q[:3], samples=n, sampling=sampling)
+                L, _ = quick_view_radiance(atm, *q[:3], samples=n, density_samples=n, sampling=sampling)
                 ms = 1e3 * (time.perf_counter() - t0) / len(L) * 1000
                 row = (rms(L, single, day), rms(L, single, dusk), errors(L, full, stderr, day)[0],
                        errors(L, full, stderr, dusk)[0])
@@ -88,7 +89,7 @@ def accuracy(presets, plot):
 
 
 def all_orders(presets):
-    """The quick view with Hillaire's table (orders above the first, the sky's light on the ground) against the
+    """The quick view with the table of Psi (orders above the first, the sky's light on the ground) against the
     standard 4D tables read by the NumPy evaluator, on the same query set: day (the sun 2 deg up or more where
     the ray looks) and twilight (0 to -6 deg), over radiances above 1e-5 of the set's largest; and the time to
     make the table."""
@@ -116,6 +117,26 @@ def all_orders(presets):
                 cells = [f"{np.sqrt(np.mean(rel[m] ** 2)):.4f} | {np.percentile(rel[m], 99):.4f}" for m in (day, dusk)]
                 ms = f"{1e3 * best:.0f}" if multiple is not None else "-"
                 print(f"| {name} | {orders} | {n} | {ms} | {cells[0]} | {cells[1]} |", flush=True)
+
+
+def psi_against_disort():
+    """Psi against DISORT's mean radiance of the diffuse light, (1/2) int u0 dmu, on plane-parallel planets whose only
+    scatterers are isotropic (where Psi's model is exact), at the ground and three altitudes: the table's quadrature
+    error alone."""
+    from planetviz.quick_view.multiple_scattering import multiple_scattering_table, read_table
+    from planetviz.validation.disort import disort_mean_radiance, isotropic_atmosphere
+    heights = np.array([0.0, 2000.0, 10000.0, 30000.0])
+    print("\nPsi / DISORT, isotropic scatterers (scale height 8 km), ground albedo 0.3")
+    print("| optical depth | single-scattering albedo | sun zenith cosine | ground | 2 km | 10 km | 30 km |")
+    print("|---|---|---|---|---|---|---|")
+    for depths, omega in (((0.1, 1.0, 5.0), 0.95), ((0.3, 2.0, 8.0), 0.999)):
+        atm = isotropic_atmosphere(depths, omega)
+        psi = multiple_scattering_table(atm)
+        for w, depth in enumerate(depths):
+            for mu_s in (0.9, 0.5, 0.15):
+                got = read_table(psi, atm, heights, np.full(heights.shape, mu_s), geometric=True)[:, w]
+                ratio = got / disort_mean_radiance(atm, w, mu_s, heights)
+                print(f"| {depth} | {omega} | {mu_s} | " + " | ".join(f"{x:.3f}" for x in ratio) + " |", flush=True)
 
 
 def random_atmospheres(split, count):
@@ -192,8 +213,9 @@ def views(presets, size):
 
 
 def frame_times(size, frames):
-    """The quick view's frame time from the ground, single scattering and all orders, and the time from a change
-    of the atmosphere to its next frame (the tables of the orders above the first made in NumPy first)."""
+    """The quick view's frame time from the ground and from space, single scattering and all orders, and the time
+    from a change of the atmosphere to its next frame (the tables of the orders above the first made in NumPy
+    first)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     from planetviz.render import Scene
     from render_timing import frame_ms
@@ -201,27 +223,28 @@ def frame_times(size, frames):
     print(f"\n| quick view, {size} | orders | ms per frame (median of {frames}) | change to first frame, ms | "
           "change to the frame with all orders, ms | vertices |")
     print("|---|---|---|---|---|---|")
-    for n in (4, 8, 16):
-        for orders in ("single", "all"):
-            scene = Scene("earth", off_screen=True, window_size=(w, h), method="quick", quick_samples=n,
-                          quick_orders=orders)
-            scene.view_from_ground(latitude=45, heading=90, pitch=5)
-            scene.screenshot()
-            ms = frame_ms(scene.ren_win, frames)
-            first, whole = [], []
-            for k in range(frames):
-                albedo = 0.2 + 0.1 * (k % 2)
-                t0 = time.perf_counter()
-                scene.set_atmosphere(scene.atmosphere.replace(ground_albedo=(albedo,) * 3))
+    cameras = {"ground": ("view_from_ground", dict(latitude=45, heading=90, pitch=5)),
+               "space": ("view_from_space", dict(latitude=20, longitude=10))}
+    for (where, (call, keywords)), n, orders in itertools.product(cameras.items(), (8, 16, 24), ("single", "all")):
+        scene = Scene("earth", off_screen=True, window_size=(w, h), method="quick", quick_samples=n,
+                      quick_orders=orders)
+        getattr(scene, call)(**keywords)
+        scene.screenshot()
+        ms = frame_ms(scene.ren_win, frames)
+        first, whole = [], []
+        for k in range(frames):
+            albedo = 0.2 + 0.1 * (k % 2)
+            t0 = time.perf_counter()
+            scene.set_atmosphere(scene.atmosphere.replace(ground_albedo=(albedo,) * 3))
+            scene.render()
+            first.append(1e3 * (time.perf_counter() - t0))
+            while scene.quick_pending:                  # an interactive window renders on until it is whole
                 scene.render()
-                first.append(1e3 * (time.perf_counter() - t0))
-                while scene.quick_pending:                  # an interactive window renders on until it is whole
-                    scene.render()
-                whole.append(1e3 * (time.perf_counter() - t0))
-            verts = scene.quick.mapper.GetInput().GetNumberOfPoints()
-            print(f"| n = {n}, ground | {orders} | {ms:.1f} | {np.median(first):.0f} | {np.median(whole):.0f} | "
-                  f"{verts} |", flush=True)
-            scene.close()
+            whole.append(1e3 * (time.perf_counter() - t0))
+        verts = scene.quick.mapper.GetInput().GetNumberOfPoints()
+        print(f"| n = {n}, {where} | {orders} | {ms:.1f} | {np.median(first):.0f} | {np.median(whole):.0f} | "
+              f"{verts} |", flush=True)
+        scene.close()
 
 
 def main():
@@ -233,9 +256,12 @@ def main():
     ap.add_argument("--size", default="1280x720")
     ap.add_argument("--views-size", default="320x200")
     ap.add_argument("--random", type=int, default=0, help="also this many random atmospheres per split")
+    ap.add_argument("--disort", action="store_true", help="also Psi against DISORT (isotropic scatterers)")
     args = ap.parse_args()
     accuracy(args.presets, args.plot)
     all_orders(args.presets)
+    if args.disort:
+        psi_against_disort()
     for split in ("tuning", "held-out") if args.random else ():
         random_atmospheres(split, args.random)
     if args.views:

@@ -15,4 +15,4 @@ r --atmosphere mars --view space --latitude -10 --longitude 0 --sun-elevation 40
 r --atmosphere mars --view ground --heading 270 --pitch 6 --fov 70 --sun-elevation 3 --sun-azimuth 270 --exposure 4.6e-4 --screenshot $out/mars-ground-sunset.png
 r --atmosphere exo-co2-thick --view ground --heading 180 --pitch 20 --fov 90 --sun-elevation 40 --sun-azimuth 180 --screenshot $out/exo-co2-thick-ground.png
 r --atmosphere exo-mdwarf --view space --latitude 0 --longitude 0 --sun-elevation 10 --sun-azimuth 90 --screenshot $out/exo-mdwarf-orbit.png
-r --method quick --samples 6 --view ground --heading 270 --pitch 6 --fov 70 --sun-elevation 1 --sun-azimuth 270 --screenshot $out/earth-quick-sunset.png
+r --method quick --view ground --latitude 45 --heading 270 --pitch 6 --fov 70 --sun-elevation 1 --sun-azimuth 270 --screenshot $out/earth-quick-sunset.png

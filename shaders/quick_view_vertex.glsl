@@ -2,13 +2,13 @@
 // view.glsl).
 // The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction of a
 // vertex of the direction mesh (direction_mesh.glsl), L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i
-// plus the sunlit ground, with the midpoint rule on the intervals of view_edges and each optical depth on those of
-// density_edges. With multiple_scattering = 1, the orders above the first from the table of the mean radiance
-// Psi(h, mu_s) of the light scattered at least once (planetviz/quick_view/multiple_scattering.py):
+// plus the sunlit ground, with the midpoint rule on the intervals of view_edges, tau(x, p_i) summed over them and
+// each other optical depth on the intervals of density_edges from the path's lower end. With multiple_scattering = 1, the orders above the first from the table
+// of the mean radiance Psi(h, mu_s) of the light scattered at least once (planetviz/quick_view/multiple_scattering.py):
 // sum_i Delta_i beta_s(h_i) Psi exp(-tau(x, p_i)), and the sky's irradiance on the ground E_sky(mu_s) added to the
-// sun's. The ground's light is
-// output per unit of the surface colour and split by the sun's cosine, as atmosphere_vertex.glsl does, for
-// quick_view_fragment.glsl to complete per pixel with the surface texture and the terminator.
+// sun's. The ground's light is output per unit of the surface colour and split by the sun's cosine, as
+// atmosphere_vertex.glsl does, for quick_view_fragment.glsl to complete per pixel with the surface texture and the
+// terminator.
 //
 // Uniforms: those of view.glsl (the camera, the sun, the output channels, the albedo), and
 //   view_samples           int    n, points on the view path
@@ -35,7 +35,8 @@
 //                                 sign(x) x^2, x uniform in [-1, 1] (GROUND_SKY_COLUMNS columns), one row per group
 //   multiple_scattering_size  vec2  (n_mu_s, n_h) of multiple_scattering_texture
 // Constants, defined before this file (planetviz/render/quick_view_actor.py shader_constants): MAX_COMPONENTS,
-// PROFILE_TABLE_SIZE, MAX_SAMPLES, the profile kinds, and from the atmosphere, so that the loops over the
+// PROFILE_TABLE_SIZE, MAX_SAMPLES, the profile kinds, GAUSS_OFFSET (the 2-point Gauss-Legendre nodes' offset from
+// an interval's middle, in units of its width), and from the atmosphere, so that the loops over the
 // components unroll and each evaluates its own profile only (a software renderer runs both sides of a branch, even
 // one on a uniform):
 //   component_count        int    extinction components (Rayleigh, Mie, then absorbers), at most MAX_COMPONENTS
@@ -107,17 +108,25 @@ vec4 ground_sky_irradiance(float mu_s, int g) {
     return exp(texture(ground_sky_texture, vec2((x + 0.5) / n, (float(g) + 0.5) / float(group_count))));
 }
 
-// tau of group g along start + t direction, 0 <= t <= len, midpoint rule on density_edges.
+// beta_ext of group g at p [1/m].
+vec4 extinction_at(vec3 p, int g) {
+    float h = length(p) - bottom_radius;
+    vec4 ext = vec4(0.0);
+    for (int k = 0; k < component_count; ++k) {
+        ext += component_extinction[k * MAX_GROUPS + g] * profile_density(k, h);
+    }
+    return ext;
+}
+
+// tau of group g along start + t direction, 0 <= t <= len, midpoint rule on density_edges from the path's lower end
+// (where the density is highest: the start, or the end where it is nearer the planet's centre).
 vec4 path_optical_depth(vec3 start, vec3 direction, float len, int g) {
     vec4 tau = vec4(0.0);
+    bool from_end = length(start + len * direction) < length(start);
     for (int j = 0; j < density_samples; ++j) {
         float a = density_edges[j], b = density_edges[j + 1];
-        float h = length(start + (0.5 * (a + b) * len) * direction) - bottom_radius;
-        vec4 ext = vec4(0.0);
-        for (int k = 0; k < component_count; ++k) {
-            ext += component_extinction[k * MAX_GROUPS + g] * profile_density(k, h);
-        }
-        tau += (b - a) * ext;
+        float f = 0.5 * (a + b);
+        tau += (b - a) * extinction_at(start + ((from_end ? 1.0 - f : f) * len) * direction, g);
     }
     return tau * len;
 }
@@ -152,6 +161,8 @@ bool enter_atmosphere(vec3 v, out vec3 x, out float a) {
 
 // The inscattered radiance of group g along v from the camera, per unit solar irradiance [1/sr]: single
 // scattering and, with multiple_scattering = 1, the orders above it (the ground's light is quick_view_ground's).
+// tau(x, p_i) is summed over the view path's intervals, 2-point Gauss-Legendre each, and half of the interval
+// of p_i at its first node.
 vec4 quick_view_inscatter(vec3 v, int g) {
     vec3 x;
     float a;
@@ -170,13 +181,18 @@ vec4 quick_view_inscatter(vec3 v, int g) {
         p_m = double_henyey_greenstein(nu, mie_g1[g], mie_g2[g], mie_alpha[g]);
     }
     vec4 l = vec4(0.0);
+    vec4 tau_before = vec4(0.0);            // tau from x to the interval's start (view_optical_depth in NumPy)
     for (int i = 0; i < view_samples; ++i) {
         float a = view_edges[i], b = view_edges[i + 1];
         float t = 0.5 * (a + b) * path;
         vec3 p = x + t * v;
         float h = length(p) - bottom_radius;
         float rho_r = profile_density(0, h), rho_m = profile_density(1, h);
-        vec4 tau_view = path_optical_depth(x, v, t, g);
+        float w = (b - a) * path;
+        vec4 first = extinction_at(x + (a * path + (0.5 - GAUSS_OFFSET) * w) * v, g);
+        vec4 second = extinction_at(x + (a * path + (0.5 + GAUSS_OFFSET) * w) * v, g);
+        vec4 tau_view = tau_before + 0.5 * w * first;
+        tau_before += 0.5 * w * (first + second);
         if (multiple_scattering == 1) {
             vec4 beta_s = rayleigh_scattering[g] * rho_r + mie_scattering[g] * rho_m;
             l += (b - a) * path * beta_s * multiple_scattering_at(h, dot(p, sun_direction) / length(p), g)

@@ -71,21 +71,6 @@ def test_the_direction_set_averages_polynomials_to_their_sphere_means():
         assert np.dot(w, f) == pytest.approx(mean, rel=1e-12)
 
 
-def isotropic_atmosphere(optical_depth, omega, albedo=0.3, scale_height_m=8000.0):
-    """A plane-parallel planet (the format's largest radius) whose only scatterers are isotropic particles, of
-    total optical depths ``optical_depth`` (one per wavelength) and single-scattering albedo ``omega``."""
-    from planetviz.validation.disort import plane_parallel_atmosphere
-    d = plane_parallel_atmosphere(False).to_dict()
-    zero = [0.0, 0.0, 0.0]
-    ext = [tau / scale_height_m for tau in optical_depth]
-    d["rayleigh"] = dict(d["rayleigh"], scattering_m=zero)
-    d["mie"] = dict(d["mie"], scattering_m=[e * omega for e in ext], extinction_m=ext,
-                    profile={"type": "exponential", "scale_height_m": scale_height_m},
-                    phase={"g1": zero, "g2": zero, "alpha": [1.0, 1.0, 1.0]})
-    d["ground_albedo"] = [albedo] * 3
-    return type(EARTH).from_dict(d)
-
-
 @pytest.mark.slow
 def test_psi_is_the_mean_radiance_disort_computes_for_isotropic_scatterers():
     # With isotropic phase functions the table's model is exact: Psi is the mean over directions of the diffuse
@@ -94,7 +79,7 @@ def test_psi_is_the_mean_radiance_disort_computes_for_isotropic_scatterers():
     # nodes). The bound, 3%, is what the table may spend of the quick view's 5% RMS target in Earth's views;
     # optical depths 0.1-2 (Earth's and Mars's skies), sun 17 and 72 deg from the zenith, the ground and three
     # altitudes.
-    from planetviz.validation.disort import disort_mean_radiance
+    from planetviz.validation.disort import disort_mean_radiance, isotropic_atmosphere
     atm = isotropic_atmosphere((0.1, 1.0, 2.0), 0.95)
     psi = multiple_scattering_table(atm)
     heights = np.array([0.0, 2000.0, 10000.0, 30000.0])
@@ -194,3 +179,58 @@ def test_the_quick_view_draws_the_surface_texture():
     def rms(kind):
         return np.sqrt(np.mean(floored_difference(y[kind], y["tables"]) ** 2))
     assert rms("quick") < 0.1 and rms("uniform") > 0.3, (rms("quick"), rms("uniform"))
+
+
+#: The views of docs/benchmarks.md's quick-view table (320x200, uniform albedo) that miss the issue's targets, and
+#: which figures they miss. What limits them is written there: on Mars the isotropic model of the orders above the
+#: first, with the similarity scaling, does not follow the dust's forward lobe (g = 0.86-0.91), and the sky near the
+#: horizon and at low sun reads 30-45% dark; the thick planet's twilight and its disc from space keep the view
+#: path's and the table's quadrature errors of an optical depth of 4.
+QUICK_VIEW_MISSES = {("mars", view): {"rms", "p99"} for view in VIEWS
+                     if view not in ("orbit, day", "orbit, terminator")}
+QUICK_VIEW_MISSES |= {("mars", "orbit, day"): {"p99"}, ("mars", "orbit, terminator"): {"p99"},
+                      ("exo-co2-thick", "orbit, day"): {"rms"}, ("exo-co2-thick", "ground, twilight"): {"rms"}}
+#: The issue's targets for the quick view against the per-pixel tables: Earth 5% RMS and 15% at the 99th percentile,
+#: dusty or thick atmospheres 10% and 25%.
+QUICK_VIEW_TARGETS = {"earth": {"rms": 0.05, "p99": 0.15}, "mars": {"rms": 0.10, "p99": 0.25},
+                      "exo-co2-thick": {"rms": 0.10, "p99": 0.25}}
+
+
+@pytest.fixture(scope="module")
+def quick_and_tables():
+    """{preset: (per-pixel standard tables, quick view)} scenes at 320x200 with the file's uniform albedo."""
+    scenes = {}
+    yield scenes
+    for pair in scenes.values():
+        for scene in pair:
+            scene.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("preset", list(QUICK_VIEW_TARGETS))
+@pytest.mark.parametrize("view", list(VIEWS))
+def test_every_view_class_of_the_quick_view_against_the_tables(quick_and_tables, preset, view):
+    # The issue's targets, in the frames of docs/benchmarks.md's quick-view table (320x200, CIE Y, the difference
+    # floored at 1% of the frame's 99th percentile, uniform albedo). The standard tables are within 1% of the
+    # reference by day on these presets (docs/benchmarks.md), a tenth of the bounds, so the bounds test the quick
+    # view. Every figure a view meets is held to its target; a figure in QUICK_VIEW_MISSES that misses it marks the
+    # test as an expected failure, and one that meets it fails the test, so that the docs and the list are brought
+    # up to date.
+    from planetviz.render import Scene
+    if preset not in quick_and_tables:
+        quick_and_tables[preset] = tuple(
+            Scene(preset, quality="standard", surface=None, off_screen=True, window_size=(320, 200), **keywords)
+            for keywords in (dict(shading="pixel"), dict(method="quick")))
+    tables, quick = (view_luminance(scene, VIEWS[view]) for scene in quick_and_tables[preset])
+    difference = floored_difference(quick, tables)
+    figures = {"rms": np.sqrt(np.mean(difference ** 2)), "p99": np.percentile(difference, 99)}
+    targets, misses = QUICK_VIEW_TARGETS[preset], QUICK_VIEW_MISSES.get((preset, view), set())
+    for name, value in figures.items():
+        if name not in misses:
+            assert value <= targets[name], f"{name} {value:.4f} above the target {targets[name]}"
+        elif value <= targets[name]:
+            pytest.fail(f"{name} {value:.4f} now meets the target {targets[name]}: take it out of "
+                        "QUICK_VIEW_MISSES and docs/benchmarks.md's list of misses")
+    if misses:
+        pytest.xfail(f"a known miss of the issue's targets ({', '.join(f'{n} {figures[n]:.4f}' for n in misses)}), "
+                     "docs/benchmarks.md 'Quick view'")

@@ -25,15 +25,16 @@ the nodes, is a matrix K (:func:`transfer_matrix`), and
 
 with z = (Psi, E) and s the light scattered once (T_sun / (4 pi) in (1), T_sun read at each step from a finer
 transmittance table: on the nodes, the sunset and the twilight of the 10-bar planet read 1.7 and 1.5 times as far
-from the tables) and the sunlit ground, is solved directly for each wavelength (:func:`multiple_scattering_table`): every order, in spherical geometry, so the twilight sky and
-the night side next to the terminator are lit (T_sun is zero where the planet hides the sun; nothing else is
-shadowed). The directions of (2) are Gauss-Legendre cosines on each hemisphere times azimuths over half the circle
-(:func:`direction_set`; the sun in the x-z plane makes L symmetric about it); along each ray the steps are at
-(k / n)^2 of its length from x, dense where the ray starts, each integrated exactly for coefficients constant over
-the step (:func:`step_weights`). The table is computed for the atmosphere with its particles' scattering scaled by
-the similarity principle to an isotropic phase function (:func:`transport_scaled`: beta_M^s (1 - g), beta_M^ext -
-g beta_M^s, g the phase function's mean cosine): a forward lobe sends most of the light on along the sun's
-direction, which isotropic phase functions would spread over the sphere.
+from the tables) and the sunlit ground, is solved directly for each wavelength (:func:`multiple_scattering_table`):
+every order, in spherical geometry, so the twilight sky and the night side next to the terminator are lit (T_sun is
+zero where the planet hides the sun; nothing else is shadowed). The directions of (2) are Gauss-Legendre cosines on
+each hemisphere times azimuths over half the circle (:func:`direction_set`; the sun in the x-z plane makes L
+symmetric about it); along each ray the steps are at (k / n)^2 of its length from x, dense where the ray starts,
+each integrated exactly for coefficients constant over the step (:func:`step_weights`). The table is computed for
+the atmosphere with its particles' scattering scaled by the similarity principle to an isotropic phase function
+(:func:`transport_scaled`: beta_M^s (1 - g), beta_M^ext - g beta_M^s, g the phase function's mean cosine): a forward
+lobe sends most of the light on along the sun's direction, which isotropic phase functions would spread over the
+sphere.
 
 Along a view ray the quick view then adds, at each of its points p_i,
 

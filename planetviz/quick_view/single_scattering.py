@@ -9,10 +9,14 @@ where it enters the atmosphere when x is in space) along v, with D the length of
       + T(x, y) (albedo / pi) T_sun(y) max(n . s, 0)                    (rays that hit the ground at y)
 
 with the paper's midpoint rule on non-equidistant points (Sect. 6): a_i = (i / n)^3, b_i = ((i + 1) / n)^3,
-p_i = x + D (a_i + b_i) / 2 v, Delta_i = D (b_i - a_i); V_i = 0 where the planet hides the sun from p_i. Each
-optical depth tau is the same midpoint rule with (j / m)^2 along its own path (from x to p_i, and from p_i to the
-top of the atmosphere toward the sun), starting where the density is highest. ``sampling="equidistant"`` uses
-exponents 1 and 1 instead, for the comparison in docs/benchmarks.md.
+p_i = x + D (a_i + b_i) / 2 v, Delta_i = D (b_i - a_i); V_i = 0 where the planet hides the sun from p_i. The sun's
+optical depth tau(p_i, sun) is the same midpoint rule with (j / m)^2 along its own path, starting where the density
+is highest: at the path's lower end (for the ground's paths from space, their far end). The paper computes
+tau(x, p_i) with samples of its own as well; here it is summed over the view path's own intervals
+(:func:`view_optical_depth`, 2-point Gauss-Legendre each): two evaluations per interval instead of m per point, so
+that n = 20 points on the view path cost about what 8 and 8 cost, and a ray from space into an optically thick
+atmosphere, whose last interval spans most of its optical depth, gets 20 of them (docs/benchmarks.md).
+``sampling="equidistant"`` uses exponents 1 and 1 instead, for the comparison in docs/benchmarks.md.
 
 ``terms="physical"`` (default) uses the atmosphere file's coefficients and phase functions, radiance in 1/sr
 per unit solar irradiance as everywhere else. ``terms="artistic"`` uses the paper's Table 1 simplifications:
@@ -37,10 +41,12 @@ SAMPLING = {"power": (3.0, 2.0), "equidistant": (1.0, 1.0)}
 TERMS = ("physical", "artistic")
 #: The most points on a path (view or optical depth).
 MAX_SAMPLES = 256
-#: Points on each path by default: with 8, the power law's last interval of a ray from space to the ground of an
-#: optically thick atmosphere spans most of its optical depth, and the 10-bar planet's disc read 25% above the tables
-#: (12% with 16, 6% with 24, where a frame from space costs twice as much as with 16; docs/benchmarks.md).
-DEFAULT_SAMPLES = 16
+#: Points n on each view path by default: with 8, the power law's last interval of a ray from space to the ground of
+#: an optically thick atmosphere spans most of its optical depth, and the 10-bar planet's disc from orbit read 3
+#: times the error it reads with 20 (docs/benchmarks.md). Points m on each of the sun's optical-depth paths: with 6,
+#: Earth's terminator from orbit read 0.156 at the 99th percentile (target 0.15), 0.144 with 8.
+DEFAULT_SAMPLES = 20
+DEFAULT_DENSITY_SAMPLES = 8
 
 
 def check_settings(samples, density_samples=None, sampling="power", terms="physical"):
@@ -52,7 +58,7 @@ def check_settings(samples, density_samples=None, sampling="power", terms="physi
     for name, value in (("samples", samples), ("density_samples", density_samples)):
         if value is not None and not (isinstance(value, (int, np.integer)) and 1 <= value <= MAX_SAMPLES):
             raise ValueError(f"{name}: an integer in [1, {MAX_SAMPLES}], got {value!r}")
-    return int(samples), int(density_samples or samples)
+    return int(samples), int(density_samples or DEFAULT_DENSITY_SAMPLES)
 
 
 def sample_fractions(n, exponent):
@@ -86,9 +92,14 @@ def _phases(atm, nu, terms):
 
 
 def path_optical_depth(extinction, bottom, start, direction, length, m, exponent):
-    """tau along start + t direction, 0 <= t <= length, by the midpoint rule at (j / m)^exponent: (..., W)."""
+    """tau along start + t direction, 0 <= t <= length, by the midpoint rule at (j / m)^exponent from the path's
+    lower end (where the density is highest: the start, or the end where it is nearer the planet's centre): (..., W).
+    """
     mid, width = sample_fractions(m, exponent)
-    pts = start[..., None, :] + (length[..., None] * mid)[..., None] * direction[..., None, :]
+    end = start + length[..., None] * direction
+    from_end = (np.linalg.norm(end, axis=-1) < np.linalg.norm(start, axis=-1))[..., None]
+    t = length[..., None] * np.where(from_end, 1.0 - mid, mid)
+    pts = start[..., None, :] + t[..., None] * direction[..., None, :]
     h = np.maximum(np.linalg.norm(pts, axis=-1) - bottom, 0.0)   # < 0 only on sun paths through the planet
     tau = 0.0
     for ext, profile in extinction:
@@ -96,11 +107,39 @@ def path_optical_depth(extinction, bottom, start, direction, length, m, exponent
     return tau * length[..., None]
 
 
-def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=DEFAULT_SAMPLES, density_samples=None, sampling="power",
+#: The offset of the 2-point Gauss-Legendre nodes from an interval's middle, in units of its width.
+GAUSS_OFFSET = 0.5 / np.sqrt(3.0)
+
+
+def extinction_at(extinction, bottom, points):
+    """beta_ext (..., W) at ``points`` (..., 3) [1/m]."""
+    h = np.maximum(np.linalg.norm(points, axis=-1) - bottom, 0.0)
+    return sum(profile.density(h)[..., None] * np.asarray(ext) for ext, profile in extinction)
+
+
+def view_optical_depth(extinction, bottom, x, v, length, n, exponent):
+    """tau (N, n, W) from x to each midpoint p_i of the view path x + t v, 0 <= t <= length, of intervals
+    [a_i, b_i] at (i / n)^exponent: each interval's optical depth by the 2-point Gauss-Legendre rule, summed from x,
+    and over [a_i, p_i] half the interval's width times the extinction at its first node. Two evaluations per
+    interval, where an optical depth of its own from x to each p_i takes m."""
+    _, width = sample_fractions(n, exponent)
+    a = length[:, None] * (np.cumsum(width) - width)                 # (N, n)
+    w = length[:, None] * width
+    start, toward = x[:, None, :], v[:, None, :]
+    first = extinction_at(extinction, bottom, start + (a + (0.5 - GAUSS_OFFSET) * w)[..., None] * toward)
+    second = extinction_at(extinction, bottom, start + (a + (0.5 + GAUSS_OFFSET) * w)[..., None] * toward)
+    step = 0.5 * w[..., None] * (first + second)
+    before = np.cumsum(step, axis=1) - step
+    return before + 0.5 * w[..., None] * first
+
+
+def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=DEFAULT_SAMPLES, density_samples=None,
+                        sampling="power",
                         terms="physical", multiple=None, ground_sky=None):
     """(radiance (N, W), transmittance (N, W)) of single scattering along each ray (and the sunlit ground).
 
-    ``samples``: points n on the view path; ``density_samples``: points m of each optical depth (default n);
+    ``samples``: points n on the view path; ``density_samples``: points m of each optical depth (default
+    :data:`DEFAULT_DENSITY_SAMPLES`);
     ``multiple``: a Psi_ms table (planetviz/quick_view/multiple_scattering.py) whose orders above the first are
     added at the same points (Eq. 11 there), or None for single scattering alone; ``ground_sky``: the sky's
     irradiance on the ground (n_mu_s, W) over mu_s in [-1, 1] (``ground_sky_irradiance`` there), added to the
@@ -136,7 +175,7 @@ def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=DEFAULT_SAMPLES,
     h = np.linalg.norm(p, axis=-1) - R
     s_i = np.broadcast_to(s[:, None, :], p.shape)
     lit = ~np.isfinite(distance_to_ground(p, s_i, R))
-    tau_view = path_optical_depth(extinction, R, x[:, None, :], v[:, None, :], t_i, m, e_depth)
+    tau_view = view_optical_depth(extinction, R, x, v, length, n, e_view)
     tau_sun = path_optical_depth(extinction, R, p, s_i, distance_to_top_exit(p, s_i, top), m, e_depth)
     j = (b_r * atm.rayleigh.profile.density(h)[..., None] * p_r[:, None, :]
          + b_m * atm.mie.profile.density(h)[..., None] * p_m[:, None, :])

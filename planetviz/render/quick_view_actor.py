@@ -1,14 +1,14 @@
-"""The quick view as one VTK actor (plain ``vtkmodules``): Keller and Bohn's single scattering computed per vertex
-of the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/quick_view_vertex.glsl, the
-twin of planetviz/quick_view/single_scattering.py), with no 4D tables, so every atmosphere parameter takes effect at
-the next frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the
-ground from a 2D table of the mean radiance of the light scattered at least once
+"""The quick view as one VTK actor (plain ``vtkmodules``): Keller and Bohn's single scattering computed per vertex of
+the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/quick_view_vertex.glsl, the twin
+of planetviz/quick_view/single_scattering.py), with no 4D tables, so every atmosphere parameter takes effect at the
+next frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the ground
+from a 2D table of the mean radiance of the light scattered at least once
 (planetviz/quick_view/multiple_scattering.py), solved in NumPy in a background job that the scene starts after the
 actor's first frame (planetviz/render/background.py): that frame shows single scattering, the frames after the table
-is ready (:meth:`QuickViewActor.collect`, about 0.5 s later) all orders. The inscatter and the ground's light per unit of
-the surface colour are interpolated over the triangles and completed per fragment (shaders/quick_view_fragment.glsl)
-with the surface texture (or the file's uniform albedo) and the sun's cosine at the pixel's ground point, as the
-per-vertex table renderer does; no sun disc.
+is ready (:meth:`QuickViewActor.collect`, about 0.5 s later) all orders. The inscatter and the ground's light per
+unit of the surface colour are interpolated over the triangles and completed per fragment
+(shaders/quick_view_fragment.glsl) with the surface texture (or the file's uniform albedo) and the sun's cosine at
+the pixel's ground point, as the per-vertex table renderer does; no sun disc.
 """
 from __future__ import annotations
 
@@ -16,7 +16,8 @@ import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..quick_view.multiple_scattering import GROUND_SKY_COLUMNS, LOG_FLOOR, MS_SIZE, ORDERS, quick_view_tables
-from ..quick_view.single_scattering import DEFAULT_SAMPLES, MAX_SAMPLES, SAMPLING, check_settings, coefficients
+from ..quick_view.single_scattering import (DEFAULT_SAMPLES, GAUSS_OFFSET, MAX_SAMPLES, SAMPLING, check_settings,
+                                           coefficients)
 from .background import BackgroundJob
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
@@ -46,7 +47,7 @@ def shader_constants(extinction):
     kinds += [EXPONENTIAL_PROFILE] * (MAX_COMPONENTS - len(kinds))
     defines = {"MAX_COMPONENTS": MAX_COMPONENTS, "PROFILE_TABLE_SIZE": PROFILE_TABLE_SIZE,
                "MAX_SAMPLES": MAX_SAMPLES, "EXPONENTIAL_PROFILE": EXPONENTIAL_PROFILE, "TENT_PROFILE": TENT_PROFILE,
-               "TABULATED_PROFILE": TABULATED_PROFILE}
+               "TABULATED_PROFILE": TABULATED_PROFILE, "GAUSS_OFFSET": repr(float(GAUSS_OFFSET))}
     return ("".join(f"#define {name} {value}\n" for name, value in defines.items())
             + f"const int component_count = {len(extinction)};\n"
             + f"const int component_kinds[MAX_COMPONENTS] = int[]({', '.join(map(str, kinds))});\n")
@@ -71,8 +72,8 @@ class QuickViewActor(DirectionMeshActor):
     ``"all"`` or ``"single"`` (:data:`ORDERS`; the artistic terms are single scattering only); ``surface``: an
     (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the file's uniform albedo."""
 
-    def __init__(self, atmosphere, renderer, samples=DEFAULT_SAMPLES, density_samples=None, sampling="power", terms="physical",
-                 settings=None, orders="all", surface=None):
+    def __init__(self, atmosphere, renderer, samples=DEFAULT_SAMPLES, density_samples=None, sampling="power",
+                 terms="physical", settings=None, orders="all", surface=None):
         self.samples, self.density_samples = check_settings(samples, density_samples, sampling, terms)
         if orders not in ORDERS:
             raise ValueError(f"quick view orders: one of {', '.join(ORDERS)}, got {orders!r}")

@@ -119,6 +119,9 @@ def cube_face_uv(n, face_size):
 
 
 _CUBES = {}
+#: The image array last resampled and its cube: a scene passes the same array at every change of the atmosphere, and
+#: hashing its bytes to find the cube took 10-20 ms of the frame after the change.
+_LAST = [None, None]
 
 
 def surface_cube(image):
@@ -126,7 +129,11 @@ def surface_cube(image):
     layer order :data:`CUBE_FACES`, each face a gnomonic projection with a one-texel border holding what lies just
     beyond its edge, so bilinear filtering at an edge blends the right neighbours. The shaders read it with
     ``cube_face_uv``: no trigonometry per pixel (atan and asin cost 0.05 ms of a 1.26 ms frame on the H100). The
-    default n is 1.25 w / 4, a little finer than the map along the equator, where a face spans a quarter of it."""
+    default n is 1.25 w / 4, a little finer than the map along the equator, where a face spans a quarter of it.
+    The same array object gets the same cube at once (change a map by passing a new array, not in place)."""
+    if image is _LAST[0]:
+        return _LAST[1]
+    original = image
     image = np.ascontiguousarray(image, dtype=np.uint8)
     h, w, _ = image.shape
     n = max(4, round(1.25 * w / 4))
@@ -135,6 +142,7 @@ def surface_cube(image):
         if len(_CUBES) >= 4:                                 # a few maps are kept: building one takes ~0.7 s
             _CUBES.pop(next(iter(_CUBES)))
         _CUBES[key] = _build_cube(image, n)
+    _LAST[:] = [original, _CUBES[key]]
     return _CUBES[key]
 
 

@@ -28,6 +28,25 @@ def plane_parallel_atmosphere(aerosol: bool, radius_m: float = 1.0e9):
     return type(load_atmosphere("earth")).from_dict(d)
 
 
+def isotropic_atmosphere(optical_depth, omega, albedo=0.3, scale_height_m=8000.0):
+    """A plane-parallel planet (:func:`plane_parallel_atmosphere`) whose only scatterers are isotropic particles of
+    total optical depths ``optical_depth`` (one per wavelength) and single-scattering albedo ``omega``, on a
+    Lambertian ground of ``albedo``: where an isotropic model of the orders of scattering is exact.
+
+    >>> isotropic_atmosphere((0.1, 1.0, 2.0), 0.95).mie.g1
+    (0.0, 0.0, 0.0)
+    """
+    d = plane_parallel_atmosphere(False).to_dict()
+    zero = [0.0, 0.0, 0.0]
+    extinction = [tau / scale_height_m for tau in optical_depth]
+    d["rayleigh"] = dict(d["rayleigh"], scattering_m=zero)
+    d["mie"] = dict(d["mie"], scattering_m=[e * omega for e in extinction], extinction_m=extinction,
+                    profile={"type": "exponential", "scale_height_m": scale_height_m},
+                    phase={"g1": zero, "g2": zero, "alpha": [1.0, 1.0, 1.0]})
+    d["ground_albedo"] = [albedo] * 3
+    return type(load_atmosphere("earth")).from_dict(d)
+
+
 def disort_radiance(atm, w, mu0, views, n_quad=64, layers=120):
     """Radiance [1/sr per unit irradiance normal to the beam] at wavelength index w from PythonicDISORT, the sun's
     cosine ``mu0``, for the views (mu, phi, t): mu < 0 looking up, phi the view's azimuth from the sun's, t the
