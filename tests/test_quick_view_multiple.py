@@ -161,7 +161,7 @@ def test_the_quick_view_of_earth_by_day_is_within_5_percent_of_the_tables(earth_
 
 def test_the_quick_view_draws_the_surface_texture():
     # Earth from orbit by day with its surface texture, quick view against the per-pixel tables: the texture and the
-    # terminator completed per pixel bring the quick view within its own model error of the tables (by day 4-6%
+    # terminator completed per pixel bring the quick view within its own model error of the tables (by day 1-4.5%
     # with a uniform albedo, docs/benchmarks.md; bound 10%), where the quick view with the file's uniform albedo
     # is about 50% off the textured picture (bound 30%: the texture is what closes the gap).
     from planetviz.render import Scene
@@ -184,12 +184,12 @@ def test_the_quick_view_draws_the_surface_texture():
 #: The views of docs/benchmarks.md's quick-view table (320x200, uniform albedo) that miss the issue's targets, and
 #: which figures they miss. What limits them is written there: on Mars the isotropic model of the orders above the
 #: first, with the similarity scaling, does not follow the dust's forward lobe (g = 0.86-0.91), and the sky near the
-#: horizon and at low sun reads 30-45% dark; the thick planet's twilight and its disc from space keep the view
-#: path's and the table's quadrature errors of an optical depth of 4.
+#: horizon and at low sun reads 30-45% dark; in the thick planet's twilight the table's mean radiance near the ground
+#: reads 20-60% high at the bluest wavelength (optical depth 4), where its quadrature errs most (docs/benchmarks.md).
 QUICK_VIEW_MISSES = {("mars", view): {"rms", "p99"} for view in VIEWS
                      if view not in ("orbit, day", "orbit, terminator")}
 QUICK_VIEW_MISSES |= {("mars", "orbit, day"): {"p99"}, ("mars", "orbit, terminator"): {"p99"},
-                      ("exo-co2-thick", "orbit, day"): {"rms"}, ("exo-co2-thick", "ground, twilight"): {"rms"}}
+                      ("exo-co2-thick", "ground, twilight"): {"rms", "p99"}}
 #: The issue's targets for the quick view against the per-pixel tables: Earth 5% RMS and 15% at the 99th percentile,
 #: dusty or thick atmospheres 10% and 25%.
 QUICK_VIEW_TARGETS = {"earth": {"rms": 0.05, "p99": 0.15}, "mars": {"rms": 0.10, "p99": 0.25},

@@ -73,10 +73,9 @@ LOG_FLOOR = 1e-30
 #: Directions of the sky's irradiance on the ground: its single scattering has the particles' forward lobe, which
 #: 32 directions over the sky's half alias (Mars' sky irradiance jumps by 60% from one sun elevation to the next).
 GROUND_SKY_DIRECTIONS = 256
-#: Columns of the sky's irradiance on the ground (mu_s on cosine_grid): in twilight it falls by about 7 times per
-#: column of Psi_ms's 32 (2 deg of sun elevation near -4 deg), and linear filtering between such columns read the
-#: Earth preset's 1.4 times the tables' irradiance at -4 deg and 2.1 times at -6 deg; 128 columns are 0.5 deg apart
-#: there.
+#: Columns of the sky's irradiance on the ground (mu_s on cosine_grid), 0.5 deg of the sun's elevation apart near
+#: -4 deg, where it falls about 7 times per 2 deg: with 32 columns read linearly the Earth preset's ground was lit 1.4
+#: times the tables' irradiance at -4 deg and 2.1 times at -6 deg.
 GROUND_SKY_COLUMNS = 128
 #: Transmittance table size (altitudes, view zenith cosines) and midpoints (power law 2) along each ray.
 TRANSMITTANCE_SIZE = (32, 64)
@@ -96,7 +95,7 @@ def transport_scaled(atm):
 
 
 def quick_view_tables(atm):
-    """(Psi_ms (n_h, n_mu_s, W), E_sky (n_mu_s, W)) of ``atm`` for the quick view."""
+    """(Psi (n_h, n_mu_s, W), E_sky (n_mu_s, W)) of ``atm`` for the quick view."""
     psi = multiple_scattering_table(atm)
     return psi, ground_sky_irradiance(atm, psi, transmittance_table(atm))
 

@@ -140,8 +140,8 @@ def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=DEFAULT_SAMPLES,
 
     ``samples``: points n on the view path; ``density_samples``: points m of each optical depth (default
     :data:`DEFAULT_DENSITY_SAMPLES`);
-    ``multiple``: a Psi_ms table (planetviz/quick_view/multiple_scattering.py) whose orders above the first are
-    added at the same points (Eq. 11 there), or None for single scattering alone; ``ground_sky``: the sky's
+    ``multiple``: a Psi table (planetviz/quick_view/multiple_scattering.py) whose orders above the first are
+    added at the same points (beta_s Psi exp(-tau), read geometrically), or None for single scattering alone; ``ground_sky``: the sky's
     irradiance on the ground (n_mu_s, W) over mu_s in [-1, 1] (``ground_sky_irradiance`` there), added to the
     sun's on the ground, or None.
 

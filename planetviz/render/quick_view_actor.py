@@ -80,7 +80,7 @@ class QuickViewActor(DirectionMeshActor):
         self.atmosphere, self.surface = atmosphere, surface
         self.sampling, self.terms = sampling, terms
         self.orders = orders if terms == "physical" else "single"
-        self.multiple = self.ground_sky = None          # Psi_ms and E_sky once shown
+        self.multiple = self.ground_sky = None          # Psi and E_sky once shown
         self._textures, self._job, self._cube_image = {}, None, None
         if self.orders == "all":
             self._job = BackgroundJob(lambda: quick_view_tables(atmosphere))
