@@ -185,7 +185,7 @@ def test_the_quick_view_draws_the_surface_texture():
 #: which figures they miss. What limits them is written there: on Mars the isotropic model of the orders above the
 #: first, with the similarity scaling, does not follow the dust's forward lobe (g = 0.86-0.91), and the sky near the
 #: horizon and at low sun reads 30-45% dark; in the thick planet's twilight the table's mean radiance near the ground
-#: reads 20-60% high at the bluest wavelength (optical depth 4), where its quadrature errs most (docs/benchmarks.md).
+#: reads 1.1-2.3 times the tables' 4-6 deg after sunset, the most at the bluest wavelength (docs/benchmarks.md).
 QUICK_VIEW_MISSES = {("mars", view): {"rms", "p99"} for view in VIEWS
                      if view not in ("orbit, day", "orbit, terminator")}
 QUICK_VIEW_MISSES |= {("mars", "orbit, day"): {"p99"}, ("mars", "orbit, terminator"): {"p99"},

@@ -29,26 +29,26 @@ def test_sample_fractions_cover_the_path_and_crowd_its_start():
 
 def test_converges_to_the_single_scattering_integral():
     # Independent check: reference.single_scattering integrates the same single-scattering equation with
-    # 48-panel Gauss-Legendre quadrature and exact optical depths. With 32 points per path the midpoint rule
-    # on (i/n)^3 must agree to 1% (measured 0.2% RMS on the benchmark's rays) and with 4 points it must
+    # 48-panel Gauss-Legendre quadrature and exact optical depths. With 32 points on every path the midpoint
+    # rule on (i/n)^3 must agree to 1% (measured 0.2% RMS on the benchmark's rays) and with 4 points it must
     # not (measured 14%): the test fails for a wrong integrand and for a rule that does not converge.
     cams, views, sun = rays()
     a, g = single_scattering(EARTH, cams, views, sun, panels=48)
     ref = a + g
-    fine, _ = quick_view_radiance(EARTH, cams, views, sun, samples=32)
-    coarse, _ = quick_view_radiance(EARTH, cams, views, sun, samples=4)
+    fine, _ = quick_view_radiance(EARTH, cams, views, sun, samples=32, density_samples=32)
+    coarse, _ = quick_view_radiance(EARTH, cams, views, sun, samples=4, density_samples=4)
     assert np.max(np.abs(fine - ref) / ref) < 0.01
     assert np.max(np.abs(coarse - ref) / ref) > 0.02
 
 
 def test_power_sampling_beats_equidistant_at_equal_cost():
-    # The paper's claim (Sect. 6), measured here for 8 points on the rays above.
+    # The paper's claim (Sect. 6), measured here for 8 points on every path on the rays above.
     cams, views, sun = rays()
     a, g = single_scattering(EARTH, cams, views, sun, panels=48)
     ref = a + g
     err = {}
     for sampling in ("power", "equidistant"):
-        L, _ = quick_view_radiance(EARTH, cams, views, sun, samples=8, sampling=sampling)
+        L, _ = quick_view_radiance(EARTH, cams, views, sun, samples=8, density_samples=8, sampling=sampling)
         err[sampling] = np.sqrt(np.mean(((L - ref) / ref) ** 2))
     assert err["power"] < 0.5 * err["equidistant"], err
 
@@ -58,7 +58,7 @@ def test_transmittance_and_space():
     # transmittance of the whole chord (exact for an exponential atmosphere through the centre: up and down).
     cams = np.array([[0, 0, 10 * R], [0, 0, 10 * R]])
     views = np.array([[1.0, 0, 0], [0, 0, -1.0]])
-    L, T = quick_view_radiance(EARTH, cams, views, [0, 0, 1.0], samples=64)
+    L, T = quick_view_radiance(EARTH, cams, views, [0, 0, 1.0], samples=64, density_samples=64)
     assert np.all(L[0] == 0) and np.all(T[0] == 1)
     tau = EARTH.vertical_optical_depth()
     assert np.allclose(T[1], np.exp(-tau), rtol=2e-3)
@@ -94,6 +94,6 @@ def test_quick_view_command(tmp_path):
                            "--out", out, "--method", "quick", "--samples", "12"], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     with np.load(out) as f:
-        # The command re-normalises the directions (a 1e-4 change); 12 points, not the default 8 (2% apart).
+        # The command re-normalises the directions (a 1e-4 change); 12 points, not the default 20.
         assert np.allclose(f["radiance"], quick_view_radiance(EARTH, cams, views, sun, samples=12)[0], rtol=1e-3)
-        assert not np.allclose(f["radiance"], quick_view_radiance(EARTH, cams, views, sun, samples=8)[0], rtol=1e-3)
+        assert not np.allclose(f["radiance"], quick_view_radiance(EARTH, cams, views, sun)[0], rtol=1e-3)
