@@ -14,8 +14,8 @@ import os
 import sys
 import threading
 
-#: The niceness of the precompute's thread (Linux): against a thread of niceness 0 it gets about a tenth of a
-#: core both want (the kernel's weights 110 and 1024).
+#: The niceness of the background jobs' threads (Linux), the precompute's and the quick view's table's: against a
+#: thread of niceness 0 such a thread gets about a tenth of a core both want (the kernel's weights 110 and 1024).
 BACKGROUND_NICENESS = 10
 
 

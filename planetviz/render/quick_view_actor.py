@@ -18,7 +18,7 @@ from vtkmodules.vtkCommonCore import vtkCommand
 from ..quick_view.multiple_scattering import GROUND_SKY_COLUMNS, LOG_FLOOR, MS_SIZE, ORDERS, quick_view_tables
 from ..quick_view.single_scattering import (DEFAULT_SAMPLES, GAUSS_OFFSET, MAX_SAMPLES, SAMPLING, check_settings,
                                            coefficients)
-from .background import BackgroundJob
+from .background import BACKGROUND_NICENESS, BackgroundJob
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from ..model.color import albedo_matrix
@@ -83,7 +83,7 @@ class QuickViewActor(DirectionMeshActor):
         self.multiple = self.ground_sky = None          # Psi and E_sky once shown
         self._textures, self._job, self._cube_image = {}, None, None
         if self.orders == "all":
-            self._job = BackgroundJob(lambda: quick_view_tables(atmosphere))
+            self._job = BackgroundJob(lambda: quick_view_tables(atmosphere), niceness=BACKGROUND_NICENESS)
         _, _, extinction = coefficients(atmosphere, terms)
         if len(extinction) > MAX_COMPONENTS:
             raise ValueError(f"absorption: the quick view takes at most {MAX_COMPONENTS - 2} absorbing layers, "
