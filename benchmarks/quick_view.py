@@ -160,8 +160,8 @@ def random_atmospheres(split, count):
                     got = quick_view_radiance(atm, c[None], v[None], s, multiple=multiple,
                                               ground_sky=ground_sky)[0][0]
                     errors_of[orders, camera_class].append(np.stack([got, want]))
-    print(f"\n{split}: {count} random atmospheres, 6 daylight rays per camera class, quick view (default points per path) against "
-          "the standard tables: RMS relative error")
+    print(f"\n{split}: {count} random atmospheres, 6 daylight rays per camera class, quick view (default points "
+          "per path) against the standard tables: RMS relative error")
     print("| orders | all rays: RMS | median | p95 | " + " | ".join(CAMERAS) + " |")
     print("|---|---|---|---|" + "---|" * len(CAMERAS))
     for orders in ("single", "all"):
@@ -178,65 +178,59 @@ def random_atmospheres(split, count):
               + " | ".join(per_class) + " |", flush=True)
 
 
-def views(presets, size):
-    """The quick view's pictures (single scattering; all orders), and the draft tables' read per vertex (what the
-    window shows after the quick view while the standard tables compute), against the per-pixel standard tables',
-    the same frames in CIE Y (``render_hdr``), the relative difference floored at 1% of the frame's 99th
-    percentile (a pixel darker than that counts against that level; planetviz.validation.pictures), the sun's disc
-    left out; the atmosphere's uniform albedo on both sides, so that the atmospheres are compared, not the
-    texture."""
+def compared_pictures(preset, size, kinds, compared, views=tuple(VIEWS)):
+    """(view, cells) for each of ``views``: the frames of ``preset`` drawn by the scenes ``kinds`` (name: Scene
+    keywords; "tables" the one compared with) in CIE Y (``render_hdr``), the sun's disc left out, and for each
+    name in ``compared`` 'RMS | p99' of its relative difference from "tables", floored at 1% of that frame's 99th
+    percentile (a pixel darker than that counts against that level; planetviz.validation.pictures)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
     from planetviz.render import Scene
     w, h = (int(v) for v in size.split("x"))
+    scenes = {kind: Scene(preset, off_screen=True, window_size=(w, h), **options) for kind, options in kinds.items()}
+    try:
+        for view in views:
+            y = {kind: view_luminance(scene, VIEWS[view]) for kind, scene in scenes.items()}
+            cells = []
+            for kind in compared:
+                rel = floored_difference(y[kind], y["tables"])
+                cells.append(f"{np.sqrt(np.mean(rel ** 2)):.4f} | {np.percentile(rel, 99):.4f}")
+            yield view, " | ".join(cells)
+    finally:
+        for scene in scenes.values():
+            scene.close()
+
+
+def views(presets, size):
+    """The quick view's pictures (single scattering; all orders), and the draft tables' read per vertex (what the
+    window shows after the quick view while the standard tables compute), against the per-pixel standard tables'
+    (:func:`compared_pictures`); the atmosphere's uniform albedo on both sides, so that the atmospheres are
+    compared, not the texture."""
     print(f"\n{size}: quick view and draft tables against the per-pixel standard tables, CIE Y, floored at 1% of "
           "the frame's p99")
     print("| atmosphere | view | single: RMS | p99 | all orders: RMS | p99 | draft tables per vertex: RMS | p99 |")
     print("|---|---|---|---|---|---|---|---|")
-    kinds = {"tables": dict(quality="standard", shading="pixel"),
-             "single": dict(quality="standard", method="quick", quick_orders="single"),
-             "all": dict(quality="standard", method="quick", quick_orders="all"),
-             "draft": dict(quality="draft", shading="vertex")}
+    kinds = {"tables": dict(quality="standard", shading="pixel", surface=None),
+             "single": dict(quality="standard", method="quick", quick_orders="single", surface=None),
+             "all": dict(quality="standard", method="quick", quick_orders="all", surface=None),
+             "draft": dict(quality="draft", shading="vertex", surface=None)}
     for name in presets:
-        scenes = {kind: Scene(name, surface=None, off_screen=True, window_size=(w, h), **options)
-                  for kind, options in kinds.items()}
-        try:
-            for view, spec in VIEWS.items():
-                y = {kind: view_luminance(scene, spec) for kind, scene in scenes.items()}
-                cells = []
-                for kind in ("single", "all", "draft"):
-                    rel = floored_difference(y[kind], y["tables"])
-                    cells.append(f"{np.sqrt(np.mean(rel ** 2)):.4f} | {np.percentile(rel, 99):.4f}")
-                print(f"| {name} | {view} | {' | '.join(cells)} |", flush=True)
-        finally:
-            for scene in scenes.values():
-                scene.close()
+        for view, cells in compared_pictures(name, size, kinds, ("single", "all", "draft")):
+            print(f"| {name} | {view} | {cells} |", flush=True)
 
 
 def textured_views(size):
     """Earth's quick view with the surface texture against the per-pixel standard tables with it (the quick view
     completes the ground per pixel with the texture), and the quick view with the file's uniform albedo against
-    the same textured tables: what the texture closes."""
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    from planetviz.render import Scene
-    w, h = (int(v) for v in size.split("x"))
-    kinds = {"tables": dict(method="tables", surface="texture"), "quick": dict(method="quick", surface="texture"),
-             "uniform": dict(method="quick", surface=None)}
-    scenes = {kind: Scene("earth", quality="standard", off_screen=True, window_size=(w, h), shading="pixel",
-                          **options) for kind, options in kinds.items()}
+    the same textured tables: what the texture closes (:func:`compared_pictures`)."""
     print(f"\n{size}, Earth with its surface texture: the quick view against the per-pixel standard tables")
     print("| view | textured quick view: RMS | p99 | uniform albedo: RMS | p99 |")
     print("|---|---|---|---|---|")
-    try:
-        for view in ("orbit, day", "orbit, terminator", "aircraft, 10 km", "ground, noon"):
-            y = {kind: view_luminance(scene, VIEWS[view]) for kind, scene in scenes.items()}
-            cells = []
-            for kind in ("quick", "uniform"):
-                rel = floored_difference(y[kind], y["tables"])
-                cells.append(f"{np.sqrt(np.mean(rel ** 2)):.4f} | {np.percentile(rel, 99):.4f}")
-            print(f"| {view} | {' | '.join(cells)} |", flush=True)
-    finally:
-        for scene in scenes.values():
-            scene.close()
+    kinds = {"tables": dict(method="tables", surface="texture"), "quick": dict(method="quick", surface="texture"),
+             "uniform": dict(method="quick", surface=None)}
+    kinds = {kind: dict(options, quality="standard", shading="pixel") for kind, options in kinds.items()}
+    for view, cells in compared_pictures("earth", size, kinds, ("quick", "uniform"),
+                                         ("orbit, day", "orbit, terminator", "aircraft, 10 km", "ground, noon")):
+        print(f"| {view} | {cells} |", flush=True)
 
 
 def frame_times(size, frames):

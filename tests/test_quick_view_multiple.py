@@ -17,6 +17,8 @@ from planetviz.quick_view.multiple_scattering import (altitude_grid, cosine_coor
 from planetviz.reference.optical_depth import optical_depth  # noqa: E402
 from planetviz.validation.pictures import VIEWS, floored_difference, view_luminance  # noqa: E402
 
+from conftest import hold_to_targets  # noqa: E402
+
 #: Earth's daylight views (planetviz.validation.pictures) bounded at the quick view's 5% target.
 DAYLIGHT_VIEWS = ["orbit, day", "aircraft, 10 km", "ground, noon", "ground, sunset"]
 
@@ -196,20 +198,10 @@ QUICK_VIEW_TARGETS = {"earth": {"rms": 0.05, "p99": 0.15}, "mars": {"rms": 0.10,
                       "exo-co2-thick": {"rms": 0.10, "p99": 0.25}}
 
 
-@pytest.fixture(scope="module")
-def quick_and_tables():
-    """{preset: (per-pixel standard tables, quick view)} scenes at 320x200 with the file's uniform albedo."""
-    scenes = {}
-    yield scenes
-    for pair in scenes.values():
-        for scene in pair:
-            scene.close()
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("preset", list(QUICK_VIEW_TARGETS))
 @pytest.mark.parametrize("view", list(VIEWS))
-def test_every_view_class_of_the_quick_view_against_the_tables(quick_and_tables, preset, view):
+def test_every_view_class_of_the_quick_view_against_the_tables(scene_pairs, preset, view):
     # The issue's targets, in the frames of docs/benchmarks.md's quick-view table (320x200, CIE Y, the difference
     # floored at 1% of the frame's 99th percentile, uniform albedo). The standard tables are within 1% of the
     # reference by day on these presets (docs/benchmarks.md), a tenth of the bounds, so the bounds test the quick
@@ -217,20 +209,12 @@ def test_every_view_class_of_the_quick_view_against_the_tables(quick_and_tables,
     # test as an expected failure, and one that meets it fails the test, so that the docs and the list are brought
     # up to date.
     from planetviz.render import Scene
-    if preset not in quick_and_tables:
-        quick_and_tables[preset] = tuple(
+    if preset not in scene_pairs:
+        scene_pairs[preset] = tuple(
             Scene(preset, quality="standard", surface=None, off_screen=True, window_size=(320, 200), **keywords)
             for keywords in (dict(shading="pixel"), dict(method="quick")))
-    tables, quick = (view_luminance(scene, VIEWS[view]) for scene in quick_and_tables[preset])
+    tables, quick = (view_luminance(scene, VIEWS[view]) for scene in scene_pairs[preset])
     difference = floored_difference(quick, tables)
     figures = {"rms": np.sqrt(np.mean(difference ** 2)), "p99": np.percentile(difference, 99)}
-    targets, misses = QUICK_VIEW_TARGETS[preset], QUICK_VIEW_MISSES.get((preset, view), set())
-    for name, value in figures.items():
-        if name not in misses:
-            assert value <= targets[name], f"{name} {value:.4f} above the target {targets[name]}"
-        elif value <= targets[name]:
-            pytest.fail(f"{name} {value:.4f} now meets the target {targets[name]}: take it out of "
-                        "QUICK_VIEW_MISSES and docs/benchmarks.md's list of misses")
-    if misses:
-        pytest.xfail(f"a known miss of the issue's targets ({', '.join(f'{n} {figures[n]:.4f}' for n in misses)}), "
-                     "docs/benchmarks.md 'Quick view'")
+    hold_to_targets(figures, QUICK_VIEW_TARGETS[preset], QUICK_VIEW_MISSES.get((preset, view), set()),
+                    "docs/benchmarks.md 'Quick view'")

@@ -18,6 +18,8 @@ from planetviz.render.uniforms import camera_uniforms  # noqa: E402
 from planetviz.validation.pictures import VIEWS, floored_difference, view_luminance  # noqa: E402
 from planetviz.tables.evaluator import sky_radiance  # noqa: E402
 
+from conftest import hold_to_targets  # noqa: E402
+
 SIZE = (64, 48)
 
 
@@ -331,39 +333,21 @@ KNOWN_MISSES = {("earth", "orbit, terminator"): {"rms"},
 TARGETS = {"rms": 0.01, "p99": 0.03}
 
 
-@pytest.fixture(scope="module")
-def both_renderers_1280():
-    """{preset: (per-pixel scene, per-vertex scene)} at 1280x720 with standard tables and the surface texture."""
-    scenes = {}
-    yield scenes
-    for pair in scenes.values():
-        for scene in pair:
-            scene.close()
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("preset", ["earth", "mars", "exo-co2-thick"])
 @pytest.mark.parametrize("view", list(VIEWS))
-def test_every_view_class_per_vertex_is_the_per_pixel_picture(both_renderers_1280, preset, view):
+def test_every_view_class_per_vertex_is_the_per_pixel_picture(scene_pairs, preset, view):
     # The issue's targets, in the frames of docs/benchmarks.md's table (1280x720, standard tables, CIE Y, the
     # difference floored at 1% of the frame's 99th percentile): 1% RMS and 3% at the 99th percentile. Both sides
     # read the same tables, so the bound is the interpolation's alone, with nothing to allow for noise. Every figure
     # a row meets is held to its target; a figure in KNOWN_MISSES that misses it marks the test as an expected
     # failure, and one that meets it fails the test, so that the docs and KNOWN_MISSES are brought up to date.
-    if preset not in both_renderers_1280:
-        both_renderers_1280[preset] = tuple(
+    if preset not in scene_pairs:
+        scene_pairs[preset] = tuple(
             Scene(preset, quality="standard", surface="texture", off_screen=True, window_size=(1280, 720),
                   shading=shading) for shading in ("pixel", "vertex"))
-    pixel, vertex = (view_luminance(scene, VIEWS[view]) for scene in both_renderers_1280[preset])
+    pixel, vertex = (view_luminance(scene, VIEWS[view]) for scene in scene_pairs[preset])
     difference = floored_difference(vertex, pixel)
     figures = {"rms": np.sqrt(np.mean(difference ** 2)), "p99": np.percentile(difference, 99)}
-    misses = KNOWN_MISSES.get((preset, view), set())
-    for name, value in figures.items():
-        if name not in misses:
-            assert value <= TARGETS[name], f"{name} {value:.4f} above the target {TARGETS[name]}"
-        elif value <= TARGETS[name]:
-            pytest.fail(f"{name} {value:.4f} now meets the target {TARGETS[name]}: take it out of KNOWN_MISSES "
-                        "and docs/benchmarks.md's list of misses")
-    if misses:
-        pytest.xfail(f"a known miss of the issue's targets ({', '.join(f'{n} {figures[n]:.4f}' for n in misses)}), "
-                     "docs/benchmarks.md 'Accuracy of per-vertex reading'")
+    hold_to_targets(figures, TARGETS, KNOWN_MISSES.get((preset, view), set()),
+                    "docs/benchmarks.md 'Accuracy of per-vertex reading'")
