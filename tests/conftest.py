@@ -73,14 +73,17 @@ def scene_pairs():
             scene.close()
 
 
-def hold_to_targets(figures, targets, misses, where):
-    """Assert every figure (name: value) not in ``misses`` within its target; a figure in ``misses`` that meets its
-    target fails (take it out of the list of misses and ``where``'s list in the docs), and known misses mark the test
-    as an expected failure naming their values."""
+def hold_to_targets(figures, targets, misses, where, ceilings):
+    """Assert every figure (name: value) not in ``misses`` within its target, and every one in ``misses`` within
+    its ceiling (name: value, the caller's independent bound on a known miss); a figure in ``misses`` that meets
+    its target fails (take it out of the list of misses and ``where``'s list in the docs), and known misses within
+    their ceilings mark the test as an expected failure naming their values."""
     for name, value in figures.items():
         if name not in misses:
             assert value <= targets[name], f"{name} {value:.4f} above the target {targets[name]}"
-        elif value <= targets[name]:
+        else:
+            assert value <= ceilings[name], f"known miss {name} {value:.4f} above its ceiling {ceilings[name]:.4f}"
+        if name in misses and value <= targets[name]:
             pytest.fail(f"{name} {value:.4f} now meets the target {targets[name]}: take it out of the known misses "
                         f"and {where}'s list of misses")
     if misses:

@@ -331,6 +331,11 @@ KNOWN_MISSES = {("earth", "orbit, terminator"): {"rms"},
                 ("exo-co2-thick", "orbit, terminator"): {"rms", "p99"}}
 #: The issue's targets: RMS and 99th percentile of the floored relative difference.
 TARGETS = {"rms": 0.01, "p99": 0.03}
+#: What a known miss may not exceed: twice the targets, the RMS ceiling what the draft tables read per vertex
+#: differ from the standard ones per pixel in Earth's daylight views (0.5-2.0%, docs/rendering.md), the error of a
+#: coarser table. Per-vertex reading of the same tables that errs as much as a coarser table would be a broken
+#: interpolation, not a miss of the issue's finer target.
+MISS_CEILINGS = {"rms": 0.02, "p99": 0.06}
 
 
 @pytest.mark.slow
@@ -350,4 +355,4 @@ def test_every_view_class_per_vertex_is_the_per_pixel_picture(scene_pairs, prese
     difference = floored_difference(vertex, pixel)
     figures = {"rms": np.sqrt(np.mean(difference ** 2)), "p99": np.percentile(difference, 99)}
     hold_to_targets(figures, TARGETS, KNOWN_MISSES.get((preset, view), set()),
-                    "docs/benchmarks.md 'Accuracy of per-vertex reading'")
+                    "docs/benchmarks.md 'Accuracy of per-vertex reading'", ceilings=MISS_CEILINGS)

@@ -262,13 +262,14 @@ def transfer_matrix(atm, size=MS_SIZE, directions=MS_DIRECTIONS, steps=MS_STEPS)
     e_row = n_psi + np.arange(n_mu)[:, None, None]
     # The ground where a direction meets it: E at the ground point's mu_s, linear between two cosines.
     mu_s_g = np.clip((r[:, None, :] * mu_s[None, :, None] + length[:, None, :] * nu[None]) / R, -1.0, 1.0)
-    _, j_g, _, f_g = table_coordinates(atm, 2, n_mu, np.zeros_like(mu_s_g), mu_s_g)
+    _, j_g, _, f_g = table_coordinates(atm, 2, n_mu, np.zeros_like(mu_s_g), mu_s_g)   # columns only (a 1-row E)
     g_row = np.broadcast_to(row[..., 0], mu_s_g.shape)
     seen = ground[:, None, :, None] * t_ray[:, None] * (np.asarray(atm.ground_albedo) / np.pi)   # (n_h, M, D, W)
     index = np.concatenate([(row * n + c).ravel() for c, _ in corners]
                            + [(e_row * n + c[0]).ravel() for c, _ in corners]
                            + [(g_row * n + n_psi + j_g).ravel(), (g_row * n + n_psi + j_g + 1).ravel()])
-    t_sun = read_table(transmittance_table(atm), atm, np.broadcast_to(h_t[:, None], mu_s_t.shape), mu_s_t)
+    t_sun_table = transmittance_table(atm)
+    t_sun = read_table(t_sun_table, atm, np.broadcast_to(h_t[:, None], mu_s_t.shape), mu_s_t)
     once = np.einsum("hmdsw,hdsw->hmdw", t_sun, weight) / (4.0 * np.pi)      # (n_h, M, D, W)
     W = weight.shape[-1]
     K = np.empty((W, n, n))
@@ -277,8 +278,7 @@ def transfer_matrix(atm, size=MS_SIZE, directions=MS_DIRECTIONS, steps=MS_STEPS)
                                 + [(weight[0, None, :, :, w] * up[:, None] * f[0]).ravel() for _, f in corners]
                                 + [(seen[..., w] * (1 - f_g)).ravel(), (seen[..., w] * f_g).ravel()])
         K[w] = np.bincount(index, values, n * n).reshape(n, n)
-    sunlit = seen * (np.maximum(mu_s_g, 0.0)[..., None] * read_table(transmittance_table(atm), atm,
-                                                                     np.zeros_like(mu_s_g), mu_s_g))
+    sunlit = seen * (np.maximum(mu_s_g, 0.0)[..., None] * read_table(t_sun_table, atm, np.zeros_like(mu_s_g), mu_s_g))
     s_psi = (once + sunlit).sum(axis=2).reshape(n_psi, W)
     s_e = np.einsum("mdw,d->mw", once[0], up)
     return K, np.concatenate([s_psi, s_e])
@@ -293,7 +293,7 @@ def multiple_scattering_table(atm, size=MS_SIZE, directions=MS_DIRECTIONS, steps
     >>> from planetviz import load_atmosphere
     >>> psi = multiple_scattering_table(load_atmosphere("earth"))
     >>> psi.shape
-    (16, 64, 3)
+    (16, 32, 3)
     """
     K, s = transfer_matrix(transport_scaled(atm), size, directions, steps)
     n = K.shape[1]
