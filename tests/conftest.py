@@ -1,6 +1,7 @@
 """Test configuration: off-screen rendering through OSMesa (set before VTK is imported), and a table cache
-of the test run's own, so that tests never read or fill the user's ~/.cache/planetviz; it is removed when
-the run ends."""
+of the test run's own, so that tests never read or fill the user's ~/.cache/planetviz; the run's worker
+processes (pytest-xdist, ``-n 2`` in scripts/test.sh) share it, and the process that started them removes it
+when the run ends."""
 import functools
 import os
 import shutil
@@ -11,15 +12,18 @@ import numpy as np
 import pytest
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-TABLE_CACHE = tempfile.mkdtemp(prefix="planetviz-test-cache-")
-os.environ["PLANETVIZ_CACHE"] = TABLE_CACHE
+#: True in a worker process of pytest-xdist, which inherits the cache of the process that started it.
+XDIST_WORKER = "PYTEST_XDIST_WORKER" in os.environ
+TABLE_CACHE = os.environ["PLANETVIZ_TEST_CACHE"] if XDIST_WORKER else tempfile.mkdtemp(prefix="planetviz-test-cache-")
+os.environ["PLANETVIZ_TEST_CACHE"] = os.environ["PLANETVIZ_CACHE"] = TABLE_CACHE
 #: Stored reference results of the tests and benchmarks.
 REFERENCE_DATA = Path(__file__).resolve().parents[1] / "benchmarks" / "data"
 
 
 def pytest_sessionfinish(session, exitstatus):
-    """Remove the run's table cache (about 200 MB after the whole suite)."""
-    shutil.rmtree(TABLE_CACHE, ignore_errors=True)
+    """Remove the run's table cache (about 200 MB after the whole suite) once every worker is done."""
+    if not XDIST_WORKER:
+        shutil.rmtree(TABLE_CACHE, ignore_errors=True)
 
 
 def stored_reference(tag, atm, cameras, views, sun, samples, seed):

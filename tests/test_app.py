@@ -4,7 +4,6 @@ import os
 import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -20,16 +19,16 @@ def xvfb():
     """A virtual X display started by the test itself (scripts/test.sh installs Xvfb)."""
     exe = shutil.which("Xvfb")
     assert exe, "Xvfb is missing: scripts/test.sh installs it (apt package xvfb)"
-    for n in range(90, 110):
-        if not Path(f"/tmp/.X11-unix/X{n}").exists() and not Path(f"/tmp/.X{n}-lock").exists():
-            break
-    proc = subprocess.Popen([exe, f":{n}", "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    for _ in range(100):
-        if Path(f"/tmp/.X11-unix/X{n}").exists():
-            break
-        time.sleep(0.05)
-    yield f":{n}"
+    # Xvfb picks a free display number itself and writes it to the pipe once it accepts connections (two test
+    # processes may start one at the same time).
+    read_end, write_end = os.pipe()
+    proc = subprocess.Popen([exe, "-displayfd", str(write_end), "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, pass_fds=(write_end,))
+    os.close(write_end)
+    with os.fdopen(read_end) as pipe:
+        display = pipe.readline().strip()
+    assert display, f"Xvfb did not start (exit status {proc.poll()})"
+    yield f":{display}"
     proc.terminate()
     proc.wait(10)
 

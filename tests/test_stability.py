@@ -14,6 +14,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from planetviz import load_atmosphere
+from planetviz.model.geometry import ray_sphere
 from planetviz.quick_view.single_scattering import quick_view_radiance
 from planetviz.reference import solve
 from planetviz.reference.single import single_scattering
@@ -90,6 +91,12 @@ def reference_rays(n_examples):
              sun=np.array([0.0, 0.0, -1.0]), kind="tangent to the ground", special="random")
     @example(alt=1.0, up=np.array([-0.29774567, 0.05954913, 0.95278613]), view=np.array([0.0, 1.0, 0.0]),
              sun=np.array([0.6, 0.8, 0.0]), kind="random", special="random")
+    # A run of the default suite: a ray tangent to the top of the atmosphere from 908 km read 8.4e-5 by the Monte
+    # Carlo solver against 1.1e-18 by the quadrature: from its entry point on the top sphere its exit was put 51,000
+    # km away (model/geometry.ray_sphere's far root, c / q with q ~ 1e-10 m), through air above the top
+    @example(alt=907520.7719057648, up=np.array([0.03289467664147788, 0.9837605262161956, 0.17644593309987777]),
+             view=np.array([-0.4329923716276989, 0.0, -0.9013975849269958]), sun=np.array([0.0, 0.0, -1.0]),
+             kind="tangent to the top", special="random")
     def check(alt, up, view, sun, kind, special):
         # The reference solver anywhere: its Monte Carlo estimate (single scattering and the directly lit ground
         # only) against the deterministic single-scattering quadrature of reference/single.py, two independent
@@ -159,6 +166,20 @@ def test_fixed_worst_cases():
     cams, views, suns = worst_cases()
     for radiance, transmittance in _both(cams, views, suns):
         check_finite_and_bounded(radiance, transmittance)
+
+
+@settings(max_examples=FAST, deadline=None)
+@given(up=unit, side=unit, radius=st.sampled_from([R, TOP, 1e9]))
+def test_a_ray_tangent_to_a_sphere_from_a_point_on_it_stays_there(up, side, radius):
+    # From a point on the sphere (its radius known to a few ulp) along the sphere's tangent plane, the chord is
+    # 0 analytically: both roots within 1e-7 of the radius, the rounding of the half chord sqrt(disc) (disc =
+    # R^2 - |perp|^2 carries a few ulp of R^2, 4 ulp giving 3e-8 R) and of the clip around it (1e-9 R); the
+    # ray the reference solver traced 51,000 km past the top came from such a root.
+    tangent = side - (side @ up) * up
+    if np.linalg.norm(tangent) < 1e-3:
+        return
+    t0, t1 = ray_sphere(radius * up, tangent / np.linalg.norm(tangent), radius)
+    assert not np.isfinite(t0) or (abs(t0) <= 1e-7 * radius and abs(t1) <= 1e-7 * radius), (t0, t1)
 
 
 def continuity(n_examples):

@@ -15,6 +15,11 @@ import numpy as np
 def ray_sphere(origin, direction, radius):
     """Both roots t0 <= t1 of |origin + t direction| = radius (``direction`` unit); NaN where missed.
 
+    The roots are -b -+ sqrt(disc), with b = origin . direction; the one of smaller magnitude is taken as c / q
+    (no cancellation) and held within 1e-9 (|b| + radius) of that interval: where the ray grazes the sphere
+    from a point on it, disc and c round to values that do not agree (disc >= 0 with c > 0, q ~ 1e-10 m), and c /
+    q alone would put the far root thousands of kilometres away.
+
     Returns arrays shaped like ``origin[..., 0]``.
     """
     o = np.asarray(origin, dtype=float)
@@ -30,6 +35,8 @@ def ray_sphere(origin, direction, radius):
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):   # c / q -> inf for a grazing ray from afar
         ta = q
         tb = np.where(q != 0.0, c / q, 0.0)
+    spread = 1e-9 * (np.abs(b) + radius)                     # far beyond either form's rounding
+    tb = np.clip(tb, -b - sq - spread, -b + sq + spread)
     t0 = np.where(hit, np.minimum(ta, tb), np.nan)
     t1 = np.where(hit, np.maximum(ta, tb), np.nan)
     return t0, t1
