@@ -8,5 +8,7 @@ cd "$(dirname "$0")/.."
 bash scripts/system-packages.sh osmesa qt x11
 python3 -m pip install -q --disable-pip-version-check -e ".[test]"
 export VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow
-python3 -m pytest -q --durations=10
-python3 -m pytest -q -m slow --durations=15
+# Two worker processes (pytest-xdist), a module's tests on one worker so that its fixtures are made once; the
+# workers share the run's table cache (tests/conftest.py).
+python3 -m pytest -q -n 2 --dist loadscope --durations=10
+python3 -m pytest -q -n 2 --dist loadscope -m slow --durations=15
