@@ -255,19 +255,28 @@ def test_orders_stop_by_themselves_more_for_a_thicker_atmosphere():
     assert 2 <= thin.orders < thick.orders < 64
 
 
-def test_an_optically_thick_atmosphere_gets_more_rows_in_its_multiple_scattering_table():
+def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_texels_in_their_multiple_scattering_tables():
     # precompute.sizes_for: the 10-bar CO2 planet (tau = 4 at 440 nm) and the 1000 km scale height (2) get 16 r
-    # rows at the draft and standard levels' 8; the Earth (0.25) and Mars (0.38) keep their level's sizes, and a
-    # level that has 16 already (high) is left alone.
+    # rows at the draft and standard levels' 8, and a level that has 16 already (high) is left alone; Mars (its
+    # dust's lobe g = 0.86-0.91) and the Earth with 10 times its aerosol (then 54% of the scattering at 440 nm) get
+    # the level's lobe_nu nu texels (16 at standard and high, draft's 4); the Earth (its aerosol, g = 0.8, 2-10% of
+    # the scattering) keeps its level's sizes.
     from planetviz.tables.precompute import sizes_for
     d = EARTH.to_dict()
     d["rayleigh"]["profile"]["scale_height_m"] = d["mie"]["profile"]["scale_height_m"] = 1e6
     tall = type(EARTH).from_dict(d)
-    for atm in (load_atmosphere("exo-co2-thick"), tall):
-        for level in ("draft", "standard", "high"):
-            assert sizes_for(atm, QUALITY[level]).multiple == QUALITY[level].multiple[:3] + (16,)
-    for atm in (EARTH, load_atmosphere("mars")):
-        assert sizes_for(atm, QUALITY["standard"]) == QUALITY["standard"]
+    d = EARTH.to_dict()
+    for key in ("scattering_m", "extinction_m"):
+        d["mie"][key] = [10 * b for b in d["mie"][key]]
+    hazy = type(EARTH).from_dict(d)
+    for level in ("draft", "standard", "high"):
+        n_nu, n_mu_s, n_mu, n_r = QUALITY[level].multiple
+        for atm in (load_atmosphere("exo-co2-thick"), tall):
+            assert sizes_for(atm, QUALITY[level]).multiple == (n_nu, n_mu_s, n_mu, 16)
+        for atm in (load_atmosphere("mars"), hazy):
+            assert sizes_for(atm, QUALITY[level]).multiple == (QUALITY[level].lobe_nu, n_mu_s, n_mu, n_r)
+        assert QUALITY[level].lobe_nu == (4 if level == "draft" else 16)
+        assert sizes_for(EARTH, QUALITY[level]) == QUALITY[level]
 
 
 @pytest.mark.slow

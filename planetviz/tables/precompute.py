@@ -34,6 +34,7 @@ from .multiple import multiple_scattering
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, altitude, integration_grid, is_optically_thick, ray_nodes,
                     texel_centres)
 from .parameterization import distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv
+from .validated import FORWARD_LOBE_G, strongest_forward_lobe
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,7 @@ class TableSizes:
     transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
     scattering_samples: int = 16              # per side of the closest approach, single scattering
     multiple: tuple = (4, 32, 64, 16)         # (n_nu, n_mu_s, n_mu, n_r) of the multiple-scattering table
+    lobe_nu: int = 16                         # its n_nu at least, under a dominant forward lobe (``sizes_for``)
     multiple_samples: int = 8                 # per side, integrating the scattering density
     directions: tuple = (16, 16)              # (cos theta, azimuth over [0, pi]) quadrature of J
     tolerance: float = 1e-3                   # stop adding orders below this share of the total
@@ -55,7 +57,7 @@ class TableSizes:
 QUALITY = {
     "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
-                        multiple_samples=4, directions=(8, 8), tolerance=1e-2),
+                        lobe_nu=4, multiple_samples=4, directions=(8, 8), tolerance=1e-2),
     "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 128, 32), scattering_samples=8,
                            multiple=(4, 32, 64, 8), multiple_samples=4, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
@@ -90,14 +92,24 @@ THICK_MULTIPLE_ROWS = 16
 
 
 def sizes_for(atm, sizes: TableSizes) -> TableSizes:
-    """``sizes`` as the precompute uses them for ``atm``: in an optically thick atmosphere the multiple-scattering
-    table has at least ``THICK_MULTIPLE_ROWS`` r rows. With the standard level's 8, the 10-bar CO2 planet's 12
-    test rays read 4.0% RMS (the views down from 10 km 8-11% low at 440 nm, read between rows 6.6 and 14.8 km up,
-    where the light seen down changes with the altitude's optical depth); with 16, 2.35% (tests/test_tables.py)."""
+    """``sizes`` as the precompute uses them for ``atm``:
+
+    1. in an optically thick atmosphere the multiple-scattering table has at least ``THICK_MULTIPLE_ROWS`` r rows.
+       With the standard level's 8, the 10-bar CO2 planet's 12 test rays read 4.0% RMS (the views down from 10 km
+       8-11% low at 440 nm, read between rows 6.6 and 14.8 km up, where the light seen down changes with the
+       altitude's optical depth); with 16, 2.35% (tests/test_tables.py);
+    2. under a dominant forward lobe (``validated.strongest_forward_lobe`` above ``validated.FORWARD_LOBE_G``) the
+       multiple-scattering tables have at least ``sizes.lobe_nu`` nu texels: their particles' part is stored over
+       the twice-scattered lobe F(nu), which varies a hundredfold across 4 texels, and the diffuse light seen
+       along long rays varies as 1 / F between them (docs/tables.md, "Quality levels").
+    """
     n_nu, n_mu_s, n_mu, n_r = sizes.multiple
-    if not is_optically_thick(atm) or n_r >= THICK_MULTIPLE_ROWS:
-        return sizes
-    return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, THICK_MULTIPLE_ROWS))
+    if is_optically_thick(atm):
+        n_r = max(n_r, THICK_MULTIPLE_ROWS)
+    if strongest_forward_lobe(atm) > FORWARD_LOBE_G:
+        n_nu = max(n_nu, sizes.lobe_nu)
+    return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r)) if (n_nu, n_mu_s, n_mu, n_r) != sizes.multiple \
+        else sizes
 
 
 def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
