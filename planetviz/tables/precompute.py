@@ -108,8 +108,7 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
         n_r = max(n_r, THICK_MULTIPLE_ROWS)
     if strongest_forward_lobe(atm) > FORWARD_LOBE_G:
         n_nu = max(n_nu, sizes.lobe_nu)
-    return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r)) if (n_nu, n_mu_s, n_mu, n_r) != sizes.multiple \
-        else sizes
+    return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r))
 
 
 def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
