@@ -255,12 +255,12 @@ def test_orders_stop_by_themselves_more_for_a_thicker_atmosphere():
     assert 2 <= thin.orders < thick.orders < 64
 
 
-def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_texels_in_their_multiple_scattering_tables():
+def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_and_mu_s_texels_in_their_multiple_scattering_tables():
     # precompute.sizes_for: the 10-bar CO2 planet (tau = 4 at 440 nm) and the 1000 km scale height (2) get 16 r
     # rows at the draft and standard levels' 8, and a level that has 16 already (high) is left alone; Mars (its
     # dust's lobe g = 0.86-0.91) and the Earth with 10 times its aerosol (then 54% of the scattering at 440 nm) get
-    # the level's lobe_nu nu texels (16 at standard and high, draft's 4); the Earth (its aerosol, g = 0.8, 2-10% of
-    # the scattering) keeps its level's sizes.
+    # the level's lobe_nu nu texels (16 at standard and high, draft's 4) and lobe_mu_s mu_s texels (48 at standard
+    # and high, draft's 16); the Earth (its aerosol, g = 0.8, 2-10% of the scattering) keeps its level's sizes.
     from planetviz.tables.precompute import sizes_for
     d = EARTH.to_dict()
     d["rayleigh"]["profile"]["scale_height_m"] = d["mie"]["profile"]["scale_height_m"] = 1e6
@@ -274,8 +274,10 @@ def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_texels_in_their_multip
         for atm in (load_atmosphere("exo-co2-thick"), tall):
             assert sizes_for(atm, QUALITY[level]).multiple == (n_nu, n_mu_s, n_mu, 16)
         for atm in (load_atmosphere("mars"), hazy):
-            assert sizes_for(atm, QUALITY[level]).multiple == (QUALITY[level].lobe_nu, n_mu_s, n_mu, n_r)
+            assert sizes_for(atm, QUALITY[level]).multiple == (QUALITY[level].lobe_nu, QUALITY[level].lobe_mu_s, n_mu,
+                                                               n_r)
         assert QUALITY[level].lobe_nu == (4 if level == "draft" else 16)
+        assert QUALITY[level].lobe_mu_s == {"draft": 16, "standard": 48, "high": 48}[level]
         assert sizes_for(EARTH, QUALITY[level]) == QUALITY[level]
 
 
