@@ -56,25 +56,34 @@ def test_the_cube_reproduces_the_map_on_faces_edges_and_corners():
     assert np.abs(got - want).max() < 9e-3
 
 
-@pytest.mark.parametrize("shading", ["pixel", "vertex"])
-def test_the_ground_shows_the_map_through_the_atmosphere(shading):
+@pytest.mark.parametrize("shading, change", [("pixel", False), ("vertex", False), ("vertex", True)])
+def test_the_ground_shows_the_map_through_the_atmosphere(shading, change):
     # The ground's radiance is linear in its albedo: L = L(albedo 0) + albedo (L(albedo 1) - L(albedo 0)) per
     # wavelength, with albedo = colour @ albedo_matrix; the colour read from the cube in NumPy (cube_face_uv, the
     # GLSL function's twin) and the two radiances from the NumPy evaluator. Per vertex the points are the pixels'
     # own directions (no interpolation between vertices). Bound: the shader's 1% float32 agreement
     # (tests/test_render.py); the GPU's 8-bit filtering weights add under 1e-4 here (neighbouring texels of this
-    # smooth map differ by a few 1e-3).
+    # smooth map differ by a few 1e-3). ``change``: the frame after a change of atmosphere (the map replaces its
+    # uniform albedo, so the picture stays), drawn by a new actor with the texture the first actor uploaded, which
+    # releasing that actor must leave alive.
     image = smooth_map()
     size = (64, 48)
     scene = Scene("earth", quality="draft", surface=image, off_screen=True, window_size=size, shading=shading)
     try:
         scene.view_from_space(distance=1.8e7, latitude=25, longitude=40, fov=40)
         scene.set_sun(elevation=50, azimuth=200, latitude=25, longitude=40)
+        if change:
+            scene.render_hdr()
+            first = scene.planet.textures._textures["surface_faces"]
+            W = len(scene.atmosphere.wavelengths_nm)
+            scene.set_atmosphere(scene.atmosphere.replace(ground_albedo=(0.3,) * W), wait=True)
         rows, cols = np.meshgrid(np.arange(1, size[1], 3), np.arange(1, size[0], 3), indexing="ij")
         dirs = scene.pixel_directions(rows, cols).reshape(-1, 3)
         if shading == "vertex":
             scene.planet.directions = dirs
         got = scene.render_hdr().radiance[rows, cols].reshape(-1, 3)
+        if change:
+            assert scene.planet.textures._textures["surface_faces"] is first
         atm, cam = scene.atmosphere, np.tile(scene.camera_location, (len(dirs), 1))
         W = len(atm.wavelengths_nm)
         dark, _ = sky_radiance(scene.planet.tables, dataclasses.replace(atm, ground_albedo=(0.0,) * W), cam, dirs,

@@ -25,7 +25,7 @@ from ..tables.compact import CompactTables
 from ..tables.near_ground import near_ground_altitude
 from ..tables.parameterization import MU_S_MIN
 from .shaders import shader_code
-from .surface import surface_cube
+from .surface import SurfaceTexture, surface_cube_or_black
 from .textures import MAX_GROUPS, group_count, pack_2d, pack_3d, pad_groups, upload
 from .uniforms import (DisplaySettings, UniformStore, atmosphere_uniforms, camera_uniforms, draw_uniforms,
                        frame_key, groups_array)
@@ -72,13 +72,17 @@ class TableTextures:
 
     ``surface``: an (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the
     atmosphere file's uniform ``ground_albedo``. ``half_float``: 16-bit float tables (only for measuring what that
-    costs; the default 32-bit is what the accuracy tests cover)."""
+    costs; the default 32-bit is what the accuracy tests cover). ``surface_texture``: a
+    :class:`~planetviz.render.surface.SurfaceTexture` shared with the scene's other actors, or None for one of
+    its own."""
 
-    def __init__(self, atmosphere, tables, surface=None, half_float=False):
+    def __init__(self, atmosphere, tables, surface=None, half_float=False, surface_texture=None):
         self.atmosphere, self.tables, self.surface, self.half_float = atmosphere, tables, surface, half_float
         self.compact = isinstance(tables, CompactTables)
         self.shaders = COMPACT_TABLE_SHADERS if self.compact else TABLE_SHADERS
         self._textures = None
+        self._own_surface = surface_texture is None
+        self._surface_texture = SurfaceTexture() if surface_texture is None else surface_texture
 
     def static_uniforms(self):
         atm, t = self.atmosphere, self.tables
@@ -103,9 +107,7 @@ class TableTextures:
 
     def _cube(self):
         """The surface map on the faces of a cube (planetviz/render/surface.py), or a black 1-texel cube."""
-        if self.surface is None:
-            return np.zeros((6, 3, 3, 3), np.uint8)
-        return surface_cube(self.surface)
+        return surface_cube_or_black(self.surface)
 
     def bind(self, program, render_window):
         """Upload the textures on first use, activate them and point the samplers at them."""
@@ -125,7 +127,7 @@ class TableTextures:
                        for name, table in (("single_rayleigh", t.rayleigh), ("single_mie", t.mie),
                                            ("multiple", t.multiple), ("multiple_mie", t.multiple_mie))},
                     "density_texture": upload(render_window, density_image(self.atmosphere))})
-            self._textures["surface_faces"] = upload(render_window, self._cube(), srgb=True, layers=True)
+            self._textures["surface_faces"] = self._surface_texture.get(render_window, self._cube())
         for name, tex in self._textures.items():
             tex.Activate()
             program.SetUniformi(name, tex.GetTextureUnit())
@@ -135,8 +137,12 @@ class TableTextures:
             tex.Deactivate()
 
     def release(self, render_window):
-        for tex in (self._textures or {}).values():
-            tex.ReleaseGraphicsResources(render_window)
+        """Free the tables' textures, and the surface's where it is the actor's own."""
+        for name, tex in (self._textures or {}).items():
+            if name != "surface_faces":
+                tex.ReleaseGraphicsResources(render_window)
+        if self._own_surface:
+            self._surface_texture.release()
         self._textures = None
 
 
@@ -146,16 +152,17 @@ class AtmosphereActor:
     ``surface``: an (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the
     atmosphere file's uniform ``ground_albedo``. ``half_float_tables`` stores the tables as 16-bit floats on
     the GPU (only for measuring what that costs; the default 32-bit is what the accuracy tests cover).
+    ``surface_texture``: the scene's :class:`~planetviz.render.surface.SurfaceTexture` (None: the actor's own).
     """
 
     def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, shell_resolution=96,
-                 half_float_tables=False):
+                 half_float_tables=False, surface_texture=None):
         self.atmosphere = atmosphere
         self.tables = tables
         self.renderer = renderer
         self.settings = settings or DisplaySettings()
         self.sun_direction = np.array([1.0, 0.0, 0.0])
-        self.textures = TableTextures(atmosphere, tables, surface, half_float_tables)
+        self.textures = TableTextures(atmosphere, tables, surface, half_float_tables, surface_texture)
 
         # The shell: vertices at radius top / cos(edge angle) keep every flat triangle outside the top sphere.
         sphere = vtkSphereSource()

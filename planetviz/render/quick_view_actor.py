@@ -22,7 +22,7 @@ from .background import BACKGROUND_NICENESS, BackgroundJob
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
 from ..model.color import albedo_matrix
-from .surface import surface_cube
+from .surface import SurfaceTexture, surface_cube_or_black
 from .textures import MAX_GROUPS, group_count, pack_2d, pad_groups, upload
 from .uniforms import atmosphere_uniforms, draw_uniforms, groups_array
 
@@ -70,10 +70,11 @@ class QuickViewActor(DirectionMeshActor):
     ``samples`` / ``density_samples``: points n on each view path and m on each optical-depth path;
     ``sampling``: ``"power"`` or ``"equidistant"``; ``terms``: ``"physical"`` or ``"artistic"``; ``orders``:
     ``"all"`` or ``"single"`` (:data:`ORDERS`; the artistic terms are single scattering only); ``surface``: an
-    (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the file's uniform albedo."""
+    (h, w, 3) uint8 sRGB equirectangular image used as the ground albedo, or None for the file's uniform albedo;
+    ``surface_texture``: the scene's :class:`~planetviz.render.surface.SurfaceTexture` (None: the actor's own)."""
 
     def __init__(self, atmosphere, renderer, samples=DEFAULT_SAMPLES, density_samples=None, sampling="power",
-                 terms="physical", settings=None, orders="all", surface=None):
+                 terms="physical", settings=None, orders="all", surface=None, surface_texture=None):
         self.samples, self.density_samples = check_settings(samples, density_samples, sampling, terms)
         if orders not in ORDERS:
             raise ValueError(f"quick view orders: one of {', '.join(ORDERS)}, got {orders!r}")
@@ -81,7 +82,9 @@ class QuickViewActor(DirectionMeshActor):
         self.sampling, self.terms = sampling, terms
         self.orders = orders if terms == "physical" else "single"
         self.multiple = self.ground_sky = None          # Psi and E_sky once shown
-        self._textures, self._job, self._cube_image = {}, None, None
+        self._textures, self._job = {}, None
+        self._own_surface = surface_texture is None
+        self._surface_texture = SurfaceTexture() if surface_texture is None else surface_texture
         if self.orders == "all":
             self._job = BackgroundJob(lambda: quick_view_tables(atmosphere), niceness=BACKGROUND_NICENESS)
         _, _, extinction = coefficients(atmosphere, terms)
@@ -133,11 +136,8 @@ class QuickViewActor(DirectionMeshActor):
         }
 
     def _cube(self):
-        """The surface map on the faces of a cube (planetviz/render/surface.py), or a black 1-texel cube; made once."""
-        if self._cube_image is None:
-            self._cube_image = (np.zeros((6, 3, 3, 3), np.uint8) if self.surface is None
-                                else surface_cube(self.surface))
-        return self._cube_image
+        """The surface map on the faces of a cube (planetviz/render/surface.py), or a black 1-texel cube."""
+        return surface_cube_or_black(self.surface)
 
     @property
     def pending(self):
@@ -164,7 +164,7 @@ class QuickViewActor(DirectionMeshActor):
         surface), activate them and point the samplers at them."""
         window = self.renderer.GetRenderWindow()
         if "surface_faces" not in self._textures:
-            self._textures["surface_faces"] = upload(window, self._cube(), srgb=True, layers=True)
+            self._textures["surface_faces"] = self._surface_texture.get(window, self._cube())
         if "multiple_scattering_texture" not in self._textures:
             shape = (*MS_SIZE, self.atmosphere.n_wavelengths)
             log = lambda table: np.log(np.maximum(table, LOG_FLOOR)).astype(np.float32)
@@ -188,9 +188,12 @@ class QuickViewActor(DirectionMeshActor):
             tex.Deactivate()
 
     def release(self):
-        """Stop following the renderer and free the GPU textures."""
+        """Stop following the renderer and free the GPU textures (the surface's where it is the actor's own)."""
         super().release()
-        self._release_textures(list(self._textures))
+        self._release_textures([name for name in self._textures if name != "surface_faces"])
+        self._textures.pop("surface_faces", None)
+        if self._own_surface:
+            self._surface_texture.release()
 
     def _release_textures(self, names):
         for name in names:

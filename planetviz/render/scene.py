@@ -26,7 +26,7 @@ from .atmosphere_actor import AtmosphereActor
 from .background import BACKGROUND_NICENESS, BackgroundJob
 from .quick_view_actor import QuickViewActor
 from .hdr import render_spectral, write_exr
-from .surface import surface_texture
+from .surface import SurfaceTexture, surface_texture
 from .uniforms import TONE_MAPPINGS, DisplaySettings, camera_uniforms
 from .vertex_actor import VertexAtmosphereActor
 
@@ -94,6 +94,7 @@ class PlanetView:
         self._job = None                      # a background precompute (render() may run inside __init__)
         self.planet = None                    # the table-based actor (None while its tables are computed)
         self.quick = None                     # the quick-view actor, made on first use
+        self._surface_texture = SurfaceTexture()   # the surface map on the GPU, shared by the actors
         self._auto_shading = False
         self.gl_renderer = None               # the OpenGL renderer string, known after the first frame
         super().__init__(**kwargs)
@@ -297,7 +298,8 @@ class PlanetView:
         self.showing_draft = False
         drawn = tables_of_kind(tables, self._atmosphere, self._table_kind)
         self.planet = SHADINGS[self._shading](self._atmosphere, drawn, self.renderer,
-                                              surface=self._ground_surface, settings=self.settings)
+                                              surface=self._ground_surface, settings=self.settings,
+                                              surface_texture=self._surface_texture)
         self.planet.sun_direction = self._sun
         self.add_actor(self.planet.actor, reset_camera=False, name="planet", render=False)
         self.renderer.ResetCameraClippingRange()     # the previous actor's bounds may have set it
@@ -305,7 +307,7 @@ class PlanetView:
     def _show_quick(self):
         self.quick = QuickViewActor(self._atmosphere, self.renderer, samples=self.quick_samples,
                                     terms=self.quick_terms, settings=self.settings, orders=self.quick_orders,
-                                    surface=self._ground_surface)
+                                    surface=self._ground_surface, surface_texture=self._surface_texture)
         self.quick.sun_direction = self._sun
         self.add_actor(self.quick.actor, reset_camera=False, name="quick-view", render=False)
 
@@ -470,8 +472,11 @@ class PlanetView:
         if self._job is not None and self._job.started:
             self._job.join()
         self._job = None
-        if self.planet is not None and self.ren_win is not None:
-            self.planet.release()
+        if self.ren_win is not None:
+            for actor in (self.planet, self.quick):
+                if actor is not None:
+                    actor.release()
+            self._surface_texture.release()
         return super().close(*args, **kwargs)
 
 

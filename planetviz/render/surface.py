@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..resources import asset_dir
+from .textures import upload
 
 TEXTURES = asset_dir("textures")
 
@@ -144,6 +145,47 @@ def surface_cube(image):
         _CUBES[key] = _build_cube(image, n)
     _LAST[:] = [original, _CUBES[key]]
     return _CUBES[key]
+
+
+#: The cube of a uniform surface (no map): one black texel a face, its border included.
+NO_MAP_CUBE = np.zeros((6, 3, 3, 3), np.uint8)
+NO_MAP_CUBE.setflags(write=False)
+
+
+def surface_cube_or_black(image):
+    """:func:`surface_cube` of ``image``, or :data:`NO_MAP_CUBE` where there is no map (None)."""
+    return NO_MAP_CUBE if image is None else surface_cube(image)
+
+
+class SurfaceTexture:
+    """A cube of :func:`surface_cube` on the GPU (a 2D array texture of its six faces, sRGB), uploaded once for a
+    render window and a cube. The actors of one scene share one: each change of the atmosphere makes new actors (the
+    quick view, the draft tables, the final tables), and uploading Earth's 6 x 642 x 642 texels again cost about
+    10 ms of each one's first frame on llvmpipe. Actors made without one own theirs.
+
+    Example::
+
+        texture = SurfaceTexture()
+        faces = texture.get(render_window, surface_cube(image))   # a vtkTextureObject
+        texture.release()                                          # before the window closes
+    """
+
+    def __init__(self):
+        self._window = self._cube = self._texture = None
+
+    def get(self, render_window, cube):
+        """The texture of ``cube`` (the same array object as the last call's: no upload) in ``render_window``."""
+        if self._texture is None or self._window is not render_window or self._cube is not cube:
+            self.release()
+            self._texture = upload(render_window, cube, srgb=True, layers=True)
+            self._window, self._cube = render_window, cube
+        return self._texture
+
+    def release(self):
+        """Free the texture on the GPU."""
+        if self._texture is not None:
+            self._texture.ReleaseGraphicsResources(self._window)
+        self._window = self._cube = self._texture = None
 
 
 def _build_cube(image, n):

@@ -105,9 +105,10 @@ class VertexAtmosphereActor(DirectionMeshActor):
     """A VTK actor drawing the planet, its atmosphere and the sun from precomputed tables, per vertex of the
     direction mesh (arguments as :class:`AtmosphereActor`)."""
 
-    def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, half_float_tables=False):
+    def __init__(self, atmosphere, tables, renderer, surface=None, settings=None, half_float_tables=False,
+                 surface_texture=None):
         self.tables = tables
-        self.textures = TableTextures(atmosphere, tables, surface, half_float_tables)
+        self.textures = TableTextures(atmosphere, tables, surface, half_float_tables, surface_texture)
         self.factor_textures = InscatterFactorTextures(atmosphere, tables)
         shaders = (*self.textures.shaders, "inscatter_factor.glsl")
         super().__init__(atmosphere, renderer, shader_code(*shaders, "atmosphere_vertex.glsl"), "atmosphere_vertex",
