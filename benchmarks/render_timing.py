@@ -68,18 +68,66 @@ def plain_sphere(atmosphere, size):
     return plotter
 
 
+VIEWS = {"orbit (4 radii)": lambda s: s.view_from_space(latitude=20, longitude=10),
+         "ground, sky and ground": lambda s: s.view_from_ground(latitude=45, heading=90, pitch=5),
+         "ground, twilight": lambda s: (s.set_sun(elevation=-3.0, azimuth=90.0, latitude=45.0, longitude=0.0),
+                                        s.view_from_ground(latitude=45, heading=90, pitch=5)),
+         "1e9 m (a few pixels)": lambda s: s.view_from_space(distance=1e9, fov=30)}
+
+
+def vertex_reuse(size, frames, rounds=5):
+    """The per-vertex renderer's frame at a size where shading the vertices is most of it, with the mesh's
+    triangles handed to OpenGL as the renderer hands them (strips of sectors: direction_mesh.strip_triangles), the
+    same triangles quad after quad along whole rings, vertex (i, j) at index i n_p + j (ring_triangles), and each of
+    their vertices once, as points (what shading every drawn vertex once costs). Median ms per frame over
+    ``rounds`` rounds of ``frames`` frames of each, interleaved."""
+    from planetviz.render.direction_mesh import VERTEX_STRIDE, _points, _set_cells
+    w, h = (int(v) for v in size.split("x"))
+    print("| view | vertices drawn | strips of sectors, ms | whole rings, ms | each vertex once, ms |")
+    print("|---|---|---|---|---|")
+    for name in ("orbit (4 radii)", "ground, sky and ground"):
+        scene = Scene("earth", off_screen=True, window_size=(w, h), shading="vertex")
+        VIEWS[name](scene)
+        scene.render()
+        scene.ren_win.Render()                         # the mesh's triangles of this view
+        actor = scene.planet
+        strips = [actor._cells[k][0] for k in range(len(actor._polys))]
+        both = np.concatenate(strips)
+        n_t, n_p = int(both.max() // VERTEX_STRIDE) + 1, int((both % VERTEX_STRIDE).max()) + 1
+        i, j = np.meshgrid(np.arange(n_t), np.arange(n_p), indexing="ij")
+        ring_points = _points(np.stack([i, j, 0 * i], -1).reshape(-1, 3))
+        rings = []
+        for cells in strips:
+            c = (cells // VERTEX_STRIDE) * n_p + cells % VERTEX_STRIDE
+            rings.append(c[np.argsort(c[:, 0], kind="stable")])     # quad after quad along the rings
+        strip_points = actor._polys[0].GetPoints()
+        arrangements = {"strips": [(strip_points, c, "polys") for c in strips],
+                        "rings": [(ring_points, c, "polys") for c in rings],
+                        "points": [(strip_points, np.unique(c)[:, None], "verts") for c in strips]}
+        times = {kind: [] for kind in arrangements}
+        for _ in range(rounds):
+            for kind, parts in arrangements.items():
+                for k, (points, cells, cell_kind) in enumerate(parts):
+                    _set_cells(actor._polys[k], points, cells, cell_kind)
+                    actor._cells[k] = (cells, cell_kind)
+                times[kind].append(frame_ms(scene.ren_win, frames))
+        drawn = len(np.unique(both))
+        print(f"| {name} | {drawn} | {np.median(times['strips']):.1f} | {np.median(times['rings']):.1f} | "
+              f"{np.median(times['points']):.1f} |", flush=True)
+        scene.close()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sizes", nargs="+", default=["1280x720", "1920x1080"])
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--pixel-frames", type=int, default=10)
     ap.add_argument("--quality", default="standard")
+    ap.add_argument("--vertex-reuse", metavar="SIZE", help="only the vertex-reuse comparison (vertex_reuse) at SIZE")
     args = ap.parse_args()
-    views = {"orbit (4 radii)": lambda s: s.view_from_space(latitude=20, longitude=10),
-             "ground, sky and ground": lambda s: s.view_from_ground(latitude=45, heading=90, pitch=5),
-             "ground, twilight": lambda s: (s.set_sun(elevation=-3.0, azimuth=90.0, latitude=45.0, longitude=0.0),
-                                            s.view_from_ground(latitude=45, heading=90, pitch=5)),
-             "1e9 m (a few pixels)": lambda s: s.view_from_space(distance=1e9, fov=30)}
+    if args.vertex_reuse:
+        return vertex_reuse(args.vertex_reuse, max(args.frames // 10, 5))
+    views = VIEWS
     print("| size | view | per pixel | per vertex | per vertex, camera moving | plain textured sphere | "
           "per vertex / plain | moving / plain |")
     print("|---|---|---|---|---|---|---|---|")

@@ -63,6 +63,15 @@ void ground_light_columns(ViewRay ray) {
     }
 }
 
+// The inscatter's parts (get_inscatter_parts); in the sky part, whose rays all miss the ground, read at the camera
+// only: the constant folds the ground point's reading away, which a software renderer would otherwise run for every
+// vertex (it runs both sides of a branch).
+ScatteringParts vertex_inscatter_parts(ViewRay ray, int g) {
+    if (!sky_part) return get_inscatter_parts(ray, g);
+    if (!ray.visible) return ScatteringParts(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+    return get_scattering_parts(ray.a, ray.mu, ray.mu_s, ray.nu, false, g);
+}
+
 void atmosphere_vertex(vec3 direction) {
     ViewRay ray = view_ray(direction);
     mesh_inscatter = vec3(0.0);
@@ -70,7 +79,7 @@ void atmosphere_vertex(vec3 direction) {
     mesh_factor = 0.0;
     mesh_sun = vec3(0.0);
     for (int g = first_group(); g <= last_group(); ++g) {
-        ScatteringParts parts = get_inscatter_parts(ray, g);
+        ScatteringParts parts = vertex_inscatter_parts(ray, g);
         if (g == first_group()) mesh_phase_weights = phase_weights(parts);
         mesh_inscatter += to_channels(max(phased_sum(parts, ray.nu, g), 0.0), g);
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;

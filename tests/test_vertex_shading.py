@@ -138,6 +138,29 @@ def test_the_sky_part_of_the_mesh_holds_no_ray_to_the_ground(altitude):
     assert np.all(np.isinf(distance_to_ground(np.broadcast_to(cam, rays.shape), rays, R)))
 
 
+def test_opengl_gets_the_same_triangles_in_strips_over_the_strided_vertex_buffer():
+    # buffer_triangles_of hands OpenGL the triangles of triangles_of renumbered to the vertex buffer of
+    # grid_points, whose vertex at each index holds the (ring, sector) that triangles_of's number stands for; in
+    # strips of STRIP_SECTORS sectors (sector // STRIP_SECTORS never decreases along the list); and the vertices of
+    # 15 consecutive rings of a strip fall on distinct entries of llvmpipe's 256-entry table (index modulo 256).
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from planetviz.render.direction_mesh import STRIP_SECTORS, VERTEX_STRIDE, grid_points
+    atm = load_atmosphere("earth")
+    cam = np.array([0.0, 0.0, 4.0 * atm.bottom_radius_m])
+    mesh = direction_mesh(cam, np.array([0.6, 0.0, 0.8]), atm.bottom_radius_m, atm.top_radius_m)
+    n_t, n_p = len(mesh.theta), len(mesh.phi)
+    drawn = np.random.default_rng(3).random((n_t - 1) * n_p) < 0.7
+    ring_numbered = mesh.triangles_of(drawn)
+    buffered = mesh.buffer_triangles_of(drawn)
+    grid = vtk_to_numpy(grid_points(n_t).GetData())
+    ring_j = grid[buffered][..., :2].astype(int)                           # (m, 3, 2): ring and sector
+    assert {tuple(t) for t in ring_j[..., 0] * n_p + ring_j[..., 1]} == {tuple(t) for t in ring_numbered}
+    assert len(buffered) == len(ring_numbered) and np.all(np.diff(ring_j[:, 0, 1] // STRIP_SECTORS) >= 0)
+    rows, cols = np.meshgrid(np.arange(15), np.arange(STRIP_SECTORS + 1), indexing="ij")
+    for first in (0, STRIP_SECTORS, 4 * STRIP_SECTORS):
+        assert len(np.unique((rows * VERTEX_STRIDE + first + cols) % 256)) == rows.size
+
+
 @pytest.mark.parametrize("heading,pitch,fov", [(0, 5, 60), (137, -30, 90), (250, 80, 30), (10, -89, 120)])
 def test_culling_to_the_view_leaves_no_pixel_uncovered(vertex, heading, pitch, fov):
     # Triangles wholly beyond one side of the view are dropped; the rest must still cover every pixel: in

@@ -7,8 +7,8 @@ and outside the planet's limb (the horizon seen from the ground) with a pair of 
 horizon's step in brightness is sharp; and extra rings and sectors around the sun, where the forward-scattering
 peak needs them (the paper's "adaptive dome tessellated around the sun"). Its vertices hold their ring's and
 sector's indices, and shaders/direction_mesh.glsl makes their directions from the rings' and sectors' angles and the
-mesh's axes, uniforms: when the camera or the sun moves, NumPy recomputes those angles and which quads are drawn (about
-1 ms), and the vertex buffer stays as it is. Each vertex is drawn at infinity along its direction (the camera's
+mesh's axes, uniforms: when the camera or the sun moves, NumPy recomputes those angles and which quads are drawn (1-3
+ms), and the vertex buffer stays as it is. Each vertex is drawn at infinity along its direction (the camera's
 translation drops out of the projection, so no float32 rounding of positions 6.4e6 m from the planet's centre) and at
 mid-depth (at a true distance a 16-bit depth buffer, as in the float read-back, rounds it onto the far plane and
 drops fragments).
@@ -48,6 +48,16 @@ HALO_PIXELS = 1
 #: shader's ring_theta and sector_phi arrays (shaders/direction_mesh.glsl).
 MESH_RINGS = 2 * RINGS + 4 + 3 + (LIMB_RINGS - 1) + 2 * len(SUN_REFINEMENT_DEG) + 1
 MESH_SECTORS = SECTORS + 2 * len(SUN_REFINEMENT_DEG) + 1
+
+#: The order of the triangles handed to OpenGL and the vertex buffer's layout, for a software renderer's vertex
+#: reuse: llvmpipe shades the vertices of each run of 1024 indices once each (those of the next run again), telling
+#: them apart by a direct-mapped table of 256 entries (the index modulo 256), on one thread. Quad after quad along
+#: whole rings, a run spans two rings of quads and shades three rings of vertices. In strips of STRIP_SECTORS
+#: sectors, ring after ring within a strip, a run spans about 11 rings of 16 quads; vertex (i, j) at index
+#: i VERTEX_STRIDE + j, VERTEX_STRIDE = STRIP_SECTORS + 1 modulo 256, puts the rows of a strip on consecutive
+#: entries of the table, 15 rows without a collision. Measured in docs/benchmarks.md ("Frame time on llvmpipe").
+STRIP_SECTORS = 16
+VERTEX_STRIDE = 273
 
 
 def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
@@ -128,6 +138,12 @@ class DirectionMesh:
         """(m, 3) the triangles of the quads where the (n_quads,) bool ``quads`` is true."""
         return self.triangles.reshape(-1, 2, 3)[np.asarray(quads).ravel()].reshape(-1, 3)
 
+    def buffer_triangles_of(self, quads):
+        """(m, 3) the triangles of the quads where the (n_quads,) bool ``quads`` is true as OpenGL draws them:
+        indices into :func:`grid_points`' vertex buffer, in strips of :data:`STRIP_SECTORS` sectors."""
+        order, triangles = strip_triangles(len(self.theta), len(self.phi))
+        return triangles[np.asarray(quads).ravel()[order]].reshape(-1, 3)
+
     def in_view(self, forward, right, up):
         """The quads not wholly outside one side of the view frustum (``right`` and ``up`` scaled by the tangents
         of the half fields of view, as in :func:`camera_uniforms`). The sides are planes through the camera, so a
@@ -195,17 +211,31 @@ def direction_mesh(camera, sun, bottom, top, rings=RINGS, sectors=SECTORS, pixel
 
 @functools.lru_cache(maxsize=8)
 def ring_triangles(n_t, n_p):
-    """(m, 3) the triangles between ``n_t`` rings of ``n_p`` vertices each, ring after ring (the same for every
-    mesh with as many rings and sectors, so kept: a moving camera asks for them on every frame). The two
-    triangles of each quad side by side, quad after quad along the rings: a vertex's triangles come close together
-    in the index buffer, so the GPU's cache of shaded vertices shades most vertices once or twice (all the first
-    triangles before all the second ones cost 0.15 ms of a 1.45 ms frame on the H100)."""
+    """(m, 3) the triangles between ``n_t`` rings of ``n_p`` vertices each, vertex (i, j) numbered i n_p + j (as
+    :attr:`DirectionMesh.directions` lists them): the two triangles of each quad side by side, quad after quad
+    along the rings (kept: the same for every mesh with as many rings and sectors). OpenGL gets them in the order
+    and numbering of :func:`strip_triangles`."""
     i, j = np.meshgrid(np.arange(n_t - 1), np.arange(n_p), indexing="ij")
     a, b = i * n_p + j, i * n_p + (j + 1) % n_p
     c, d = a + n_p, b + n_p
     tris = np.stack([np.stack([a, b, d], -1), np.stack([a, d, c], -1)], axis=2).reshape(-1, 3)
     tris.flags.writeable = False
     return tris
+
+
+@functools.lru_cache(maxsize=8)
+def strip_triangles(n_t, n_p):
+    """(order (n_quads,), triangles (n_quads, 2, 3)): the quads of :func:`ring_triangles` in strips of
+    :data:`STRIP_SECTORS` sectors (ring after ring within a strip, sector after sector within a ring) and their two
+    triangles, as indices into :func:`grid_points`' vertex buffer (vertex (i, j) at i VERTEX_STRIDE + j)."""
+    if n_p > VERTEX_STRIDE:
+        raise ValueError(f"sectors: at most {VERTEX_STRIDE} in a mesh, got {n_p}")
+    i, j = np.meshgrid(np.arange(n_t - 1), np.arange(n_p), indexing="ij")
+    order = np.lexsort((j.ravel(), i.ravel(), j.ravel() // STRIP_SECTORS))
+    tris = ring_triangles(n_t, n_p).reshape(-1, 2, 3)[order]
+    tris = (tris // n_p) * VERTEX_STRIDE + tris % n_p
+    order.flags.writeable = tris.flags.writeable = False
+    return order, tris
 
 
 def _points(points):
@@ -215,11 +245,11 @@ def _points(points):
 
 
 @functools.lru_cache(maxsize=4)
-def grid_points(n_t, n_p):
-    """vtkPoints of the vertices (i, j, 0) of a mesh of ``n_t`` rings and ``n_p`` sectors, in the order of
-    :func:`ring_triangles` (kept: the same object, hence the same vertex buffer, for every frame with as many rings
-    and sectors)."""
-    i, j = np.meshgrid(np.arange(n_t), np.arange(n_p), indexing="ij")
+def grid_points(n_t):
+    """vtkPoints of the vertices (i, j, 0) of a mesh of ``n_t`` rings, vertex (i, j) at index i VERTEX_STRIDE + j
+    (:func:`strip_triangles`; the entries past a mesh's sectors are never drawn). Kept: the same object, hence the
+    same vertex buffer, for every frame with as many rings."""
+    i, j = np.meshgrid(np.arange(n_t), np.arange(VERTEX_STRIDE), indexing="ij")
     return _points(np.stack([i, j, np.zeros_like(i)], axis=-1).reshape(-1, 3))
 
 
@@ -363,12 +393,13 @@ class DirectionMeshActor:
                 sun_radius = math.radians(self.atmosphere.star.angular_radius_deg())
                 drawn &= (mesh.may_meet_sphere(cam, self.atmosphere.top_radius_m)
                           | mesh.may_meet_disc(self.sun_direction / np.linalg.norm(self.sun_direction), sun_radius))
-            points = grid_points(len(mesh.theta), len(mesh.phi))
+            points = grid_points(len(mesh.theta))
             if self.split_at_limb:
                 ground = mesh.may_meet_sphere(cam, bottom)
-                parts = [(mesh.triangles_of(drawn & ground), "polys"), (mesh.triangles_of(drawn & ~ground), "polys")]
+                parts = [(mesh.buffer_triangles_of(drawn & ground), "polys"),
+                         (mesh.buffer_triangles_of(drawn & ~ground), "polys")]
             else:
-                parts = [(mesh.triangles_of(drawn), "polys")]
+                parts = [(mesh.buffer_triangles_of(drawn), "polys")]
             uniforms = mesh.uniforms()
         for k, (poly, (cells, kind)) in enumerate(zip(self._polys, parts)):
             last = self._cells[k]
