@@ -11,6 +11,9 @@
 in vec3 mesh_inscatter;
 in vec4 mesh_phase_weights;
 in float mesh_factor;
+in float mesh_magnitude;
+in float mesh_log_magnitude;
+in float mesh_log_factor;
 in vec2 mesh_ground_factors;
 in vec3 mesh_sun;
 in mat3 mesh_ground_sky;
@@ -26,11 +29,22 @@ float correction(float pixel, float interpolated) {
     return interpolated > 0.0 ? min(pixel / interpolated, MAX_FACTOR_CORRECTION) : 1.0;
 }
 
+// The inscatter interpolated geometrically: its colour (over its largest channel) linearly, its magnitude (that
+// channel) as exp of the interpolated logarithm. Across the ground's twilight band and the night side of the limb
+// the inscatter falls by orders of magnitude within a triangle, about exponentially, which a linear interpolant
+// reads many times too high toward the dark vertices. The smaller of the geometric and the linear magnitude is
+// taken: for weights in [0, 1] it is the geometric one, and on the slivers straddling a limb, where the rasteriser's
+// weights go slightly negative, a negative weight on a dark vertex's logarithm would multiply the geometric one
+// many times.
+vec3 geometric_inscatter() {
+    return mesh_inscatter * min(exp(mesh_log_magnitude), mesh_magnitude);
+}
+
 vec4 atmosphere_interpolated() {
     vec3 v = pixel_direction();
     ViewRay ray = view_ray(v);
     RayFactors f = ray_factors(ray, mesh_phase_weights, !sky_part);
-    vec3 value = mesh_inscatter * correction(f.inscatter, mesh_factor);
+    vec3 value = geometric_inscatter() * correction(f.inscatter, min(exp(mesh_log_factor), mesh_factor));
     bool ground = false;
     if (!sky_part) {
         ground = ray_hits_ground(ray);

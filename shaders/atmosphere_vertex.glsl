@@ -9,9 +9,13 @@
 // The constant sky_part (planetviz/render/direction_mesh.py) is true in the part of the mesh whose rays all miss
 // the ground, where the ground's light is left out.
 // Outputs (output channels as output_mode says):
-//   mesh_inscatter     vec3  the inscatter (aerial perspective for ground rays)
+//   mesh_inscatter     vec3  the inscatter's colour: the inscatter (aerial perspective for ground rays) over its
+//                            largest channel (its magnitude)
+//   mesh_magnitude     float the inscatter's magnitude
 //   mesh_phase_weights vec4  phase_weights of the inscatter's parts (inscatter_factor.glsl)
 //   mesh_factor        float the ray's inscatter factor (inscatter_factor.glsl ray_factors)
+//   mesh_log_magnitude float the logarithm of the inscatter's magnitude
+//   mesh_log_factor    float the logarithm of mesh_factor
 //   mesh_ground_factors vec2 the transmittance and the sky irradiance of ray_factors for the ground's light
 //   mesh_sun           vec3  the disc's radiance T / sun_solid_angle along this direction
 //   mesh_ground_sky    mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
@@ -26,6 +30,9 @@ uniform float sun_solid_angle;
 out vec3 mesh_inscatter;
 out vec4 mesh_phase_weights;
 out float mesh_factor;
+out float mesh_magnitude;
+out float mesh_log_magnitude;
+out float mesh_log_factor;
 out vec2 mesh_ground_factors;
 out vec3 mesh_sun;
 out mat3 mesh_ground_sky;
@@ -85,5 +92,9 @@ void atmosphere_vertex(vec3 direction) {
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;
     }
     mesh_factor = ray_factors(ray, mesh_phase_weights, !sky_part).inscatter;
+    mesh_magnitude = max(max(abs(mesh_inscatter.r), abs(mesh_inscatter.g)), abs(mesh_inscatter.b));
+    mesh_log_magnitude = log(max(mesh_magnitude, 1e-37));
+    mesh_inscatter = mesh_magnitude > 0.0 ? mesh_inscatter / mesh_magnitude : vec3(0.0);
+    mesh_log_factor = log(max(mesh_factor, 1e-37));
     ground_light_columns(ray);
 }

@@ -9,6 +9,7 @@ import numpy as np
 VIEWS = {
     "orbit, day": ("view_from_space", dict(latitude=20, longitude=10), dict(elevation=30, azimuth=100)),
     "orbit, terminator": ("view_from_space", dict(latitude=0, longitude=0), dict(elevation=0, azimuth=90)),
+    "orbit, night side": ("view_from_space", dict(latitude=0, longitude=0), dict(elevation=-60, azimuth=90)),
     "limb from 400 km": ("view_from_ground", dict(latitude=20, altitude=4e5, heading=90, pitch=-17, fov=40),
                          dict(elevation=20, azimuth=90)),
     "aircraft, 10 km": ("view_from_ground", dict(latitude=45, altitude=1e4, heading=90, pitch=0),
