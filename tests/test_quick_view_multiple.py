@@ -196,7 +196,7 @@ QUICK_VIEW_MISSES |= {("mars", "orbit, day"): {"p99"}, ("exo-co2-thick", "ground
                       ("earth", "orbit, night side"): {"rms", "p99"}, ("mars", "orbit, night side"): {"p99"},
                       ("exo-co2-thick", "orbit, night side"): {"rms"}}
 #: Views where the quick view's orders above the first make the picture worse than single scattering alone (the
-#: figure named): on the night side from orbit the table of Psi adds too much light to the twilight crescent and the
+#: figure named, also in QUICK_VIEW_MISSES): on the night side from orbit the table of Psi adds too much light to the twilight crescent and the
 #: night side of the limb (not analysed; docs/benchmarks.md).
 QUICK_VIEW_DEFECTS = {("earth", "orbit, night side"): "rms", ("exo-co2-thick", "orbit, night side"): "rms"}
 #: The issue's targets for the quick view against the per-pixel tables: Earth 5% RMS and 15% at the 99th percentile,
@@ -228,12 +228,15 @@ def test_every_view_class_of_the_quick_view_against_the_tables(scene_pairs, pres
     def figures_of(picture):
         difference = floored_difference(picture, tables)
         return {"rms": np.sqrt(np.mean(difference ** 2)), "p99": np.percentile(difference, 99)}
-    if (preset, view) in QUICK_VIEW_DEFECTS:
-        # A known defect: all orders read further from the tables than single scattering alone. Held to being one
-        # (the test fails once all orders beat single scattering again, to bring the docs and the list up to date).
-        name = QUICK_VIEW_DEFECTS[preset, view]
-        assert figures_of(quick)[name] > figures_of(single)[name], "no longer a defect: update QUICK_VIEW_DEFECTS"
-        pytest.xfail(f"known defect: all orders {name} {figures_of(quick)[name]:.4f} against single scattering's "
-                     f"{figures_of(single)[name]:.4f}, docs/benchmarks.md 'Quick view'")
-    hold_to_targets(figures_of(quick), QUICK_VIEW_TARGETS[preset], QUICK_VIEW_MISSES.get((preset, view), set()),
-                    "docs/benchmarks.md 'Quick view'", ceilings=figures_of(single))
+    figures, ceilings = figures_of(quick), figures_of(single)
+    defect = QUICK_VIEW_DEFECTS.get((preset, view))
+    if defect is not None:
+        # A known defect: all orders read further from the tables than single scattering alone, so single scattering
+        # cannot bound it, and on the thick planet further than a black frame does (RMS 0.21 against 0.14: the
+        # table of Psi lights the night side), so no independent picture bounds it; its figure is left unbounded
+        # and the others are held as usual. Held to being a defect: the test fails once all orders beat single
+        # scattering again, to bring the docs and the lists up to date.
+        assert figures[defect] > ceilings[defect], "no longer a defect: update QUICK_VIEW_DEFECTS and the docs"
+        ceilings[defect] = np.inf
+    hold_to_targets(figures, QUICK_VIEW_TARGETS[preset], QUICK_VIEW_MISSES.get((preset, view), set()),
+                    "docs/benchmarks.md 'Quick view'", ceilings=ceilings)
