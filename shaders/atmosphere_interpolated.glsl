@@ -1,9 +1,10 @@
-// The per-vertex renderer's fragments (after atmosphere_ray.glsl, inscatter_factor.glsl, display.glsl and
-// pixel.glsl): the inscatter, the sun disc's radiance and the ground's light of atmosphere_vertex.glsl interpolated
-// over the triangle, completed per pixel with what changes faster across the screen: the ray's inscatter_factor
-// (the inscatter is multiplied by the pixel's over the interpolated one), the surface texture's colour at the
-// pixel's ground point and the sun's cosine there (the terminator); no 4D table is read per pixel. Shown through
-// display.glsl (output_mode 0) or written as it is (1: spectral radiance, 2: linear sRGB).
+// The per-vertex renderer's fragments (after atmosphere_ray.glsl, inscatter_factor.glsl, interpolation.glsl,
+// display.glsl and pixel.glsl): the inscatter (geometrically, interpolation.glsl), the sun disc's radiance and the
+// ground's light of atmosphere_vertex.glsl interpolated over the triangle, completed per pixel with what changes
+// faster across the screen: the ray's inscatter_factor (the inscatter is multiplied by the pixel's over the
+// interpolated one), the surface texture's colour at the pixel's ground point and the sun's cosine there (the
+// terminator); no 4D table is read per pixel. Shown through display.glsl (output_mode 0) or written as it is (1:
+// spectral radiance, 2: linear sRGB).
 //
 // Uniforms: those of the files before it. The constant sky_part (planetviz/render/direction_mesh.py) is true in the
 // part of the mesh whose rays all miss the ground, where the ground's code is left out.
@@ -29,22 +30,12 @@ float correction(float pixel, float interpolated) {
     return interpolated > 0.0 ? min(pixel / interpolated, MAX_FACTOR_CORRECTION) : 1.0;
 }
 
-// The inscatter interpolated geometrically: its colour (over its largest channel) linearly, its magnitude (that
-// channel) as exp of the interpolated logarithm. Across the ground's twilight band and the night side of the limb
-// the inscatter falls by orders of magnitude within a triangle, about exponentially, which a linear interpolant
-// reads many times too high toward the dark vertices. The smaller of the geometric and the linear magnitude is
-// taken: for weights in [0, 1] it is the geometric one, and on the slivers straddling a limb, where the rasteriser's
-// weights go slightly negative, a negative weight on a dark vertex's logarithm would multiply the geometric one
-// many times.
-vec3 geometric_inscatter() {
-    return mesh_inscatter * min(exp(mesh_log_magnitude), mesh_magnitude);
-}
-
 vec4 atmosphere_interpolated() {
     vec3 v = pixel_direction();
     ViewRay ray = view_ray(v);
     RayFactors f = ray_factors(ray, mesh_phase_weights, !sky_part);
-    vec3 value = geometric_inscatter() * correction(f.inscatter, min(exp(mesh_log_factor), mesh_factor));
+    vec3 value = geometric_value(mesh_inscatter, mesh_magnitude, mesh_log_magnitude)
+        * correction(f.inscatter, geometric_scalar(mesh_factor, mesh_log_factor));
     bool ground = false;
     if (!sky_part) {
         ground = ray_hits_ground(ray);

@@ -1,8 +1,8 @@
-// The table-based renderer per vertex (after atmosphere_ray.glsl and inscatter_factor.glsl): for the direction of
-// a vertex of the direction mesh around the camera (direction_mesh.glsl), the inscatter of atmosphere_ray.glsl (the
-// 4D tables), the sun disc's radiance and the light the ground sends toward the camera, summed over the wavelength
-// groups into the three output channels, for atmosphere_interpolated.glsl to interpolate over the triangles and
-// complete per pixel.
+// The table-based renderer per vertex (after atmosphere_ray.glsl, inscatter_factor.glsl and interpolation.glsl): for
+// the direction of a vertex of the direction mesh around the camera (direction_mesh.glsl), the inscatter of
+// atmosphere_ray.glsl (the 4D tables), the sun disc's radiance and the light the ground sends toward the camera,
+// summed over the wavelength groups into the three output channels, for atmosphere_interpolated.glsl to interpolate
+// over the triangles and complete per pixel.
 //
 // Uniforms: those of the files before it, and
 //   sun_solid_angle        float  solid angle of the sun's disc [sr]
@@ -10,7 +10,7 @@
 // the ground, where the ground's light is left out.
 // Outputs (output channels as output_mode says):
 //   mesh_inscatter     vec3  the inscatter's colour: the inscatter (aerial perspective for ground rays) over its
-//                            largest channel (its magnitude)
+//                            largest channel (its magnitude; split_magnitude, interpolation.glsl)
 //   mesh_magnitude     float the inscatter's magnitude
 //   mesh_phase_weights vec4  phase_weights of the inscatter's parts (inscatter_factor.glsl)
 //   mesh_factor        float the ray's inscatter factor (inscatter_factor.glsl ray_factors)
@@ -92,9 +92,7 @@ void atmosphere_vertex(vec3 direction) {
         mesh_sun += to_channels(get_sun_transmittance(ray, g), g) / sun_solid_angle;
     }
     mesh_factor = ray_factors(ray, mesh_phase_weights, !sky_part).inscatter;
-    mesh_magnitude = max(max(abs(mesh_inscatter.r), abs(mesh_inscatter.g)), abs(mesh_inscatter.b));
-    mesh_log_magnitude = log(max(mesh_magnitude, 1e-37));
-    mesh_inscatter = mesh_magnitude > 0.0 ? mesh_inscatter / mesh_magnitude : vec3(0.0);
-    mesh_log_factor = log(max(mesh_factor, 1e-37));
+    split_magnitude(mesh_inscatter, mesh_inscatter, mesh_magnitude, mesh_log_magnitude);
+    mesh_log_factor = floored_log(mesh_factor);
     ground_light_columns(ray);
 }

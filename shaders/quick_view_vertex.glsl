@@ -1,5 +1,5 @@
-// Quick view: Keller and Bohn's single scattering computed per vertex, with no 4D tables (after common.glsl and
-// view.glsl).
+// Quick view: Keller and Bohn's single scattering computed per vertex, with no 4D tables (after common.glsl,
+// view.glsl and interpolation.glsl).
 // The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction of a
 // vertex of the direction mesh (direction_mesh.glsl), L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i
 // plus the sunlit ground, with the midpoint rule on the intervals of view_edges, tau(x, p_i) summed over them and
@@ -43,7 +43,10 @@
 //   component_kinds        int[MAX_COMPONENTS]  each component's profile: EXPONENTIAL_PROFILE, TENT_PROFILE or
 //                                 TABULATED_PROFILE
 // Outputs (output channels as output_mode says), interpolated over the triangles:
-//   quick_view_value   vec3  the inscatter (aerial perspective for ground rays)
+//   quick_view_value   vec3  the inscatter's colour (aerial perspective for ground rays): the inscatter over its
+//                            largest channel (split_magnitude, interpolation.glsl)
+//   quick_magnitude    float the inscatter's magnitude
+//   quick_log_magnitude float its logarithm
 //   quick_ground_sky   mat3  column k: the ground's radiance lit by the sky, T(x, y) albedo E_sky(y) / pi, for a
 //                            unit of component k of the surface colour (surface_colour_or_unit, pixel.glsl)
 //   quick_ground_sun   mat3  column k: the same lit by the sun, T(x, y) albedo T_sun(y) / pi, per unit of
@@ -69,6 +72,8 @@ uniform sampler2D ground_sky_texture;
 uniform vec2 multiple_scattering_size;
 
 out vec3 quick_view_value;
+out float quick_magnitude;
+out float quick_log_magnitude;
 out mat3 quick_ground_sky;
 out mat3 quick_ground_sun;
 
@@ -248,4 +253,5 @@ void quick_view_vertex(vec3 v) {
             quick_ground_sun[k] += to_channels(albedo_column(k, g) * sun, g);
         }
     }
+    split_magnitude(quick_view_value, quick_view_value, quick_magnitude, quick_log_magnitude);
 }

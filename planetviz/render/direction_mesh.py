@@ -4,14 +4,15 @@ shaders/atmosphere_vertex.glsl).
 
 The mesh is a sphere of directions around the camera: rings of constant angle from the nadir, dense just inside
 and outside the planet's limb (the horizon seen from the ground) with a pair of rings straddling it, so the
-horizon's step in brightness is sharp; and extra rings and sectors around the sun, where the forward-scattering
-peak needs them (the paper's "adaptive dome tessellated around the sun"). Its vertices hold their ring's and
-sector's indices, and shaders/direction_mesh.glsl makes their directions from the rings' and sectors' angles and the
-mesh's axes, uniforms: when the camera or the sun moves, NumPy recomputes those angles and which quads are drawn (1-3
-ms), and the vertex buffer stays as it is. Each vertex is drawn at infinity along its direction (the camera's
-translation drops out of the projection, so no float32 rounding of positions 6.4e6 m from the planet's centre) and at
-mid-depth (at a true distance a 16-bit depth buffer, as in the float read-back, rounds it onto the far plane and
-drops fragments).
+horizon's step in brightness is sharp; extra rings and sectors around the sun, where the forward-scattering peak
+needs them (the paper's "adaptive dome tessellated around the sun"; from space only where the sun is near the
+atmosphere); and, from space, extra sectors where the planet's shadow meets the halo. Its vertices hold their
+ring's and sector's indices, and shaders/direction_mesh.glsl makes their directions from the rings' and sectors'
+angles and the mesh's axes, uniforms: when the camera or the sun moves, NumPy recomputes those angles and which
+quads are drawn (1-3 ms), and the vertex buffer stays as it is. Each vertex is drawn at infinity along its
+direction (the camera's translation drops out of the projection, so no float32 rounding of positions 6.4e6 m from
+the planet's centre) and at mid-depth (at a true distance a 16-bit depth buffer, as in the float read-back, rounds
+it onto the far plane and drops fragments).
 """
 from __future__ import annotations
 
@@ -31,6 +32,10 @@ from .uniforms import DisplaySettings, UniformStore, camera_uniforms, frame_key
 
 #: Degrees around the sun and around the limb where the mesh is refined.
 SUN_REFINEMENT_DEG = (0.3, 0.7, 1.5, 3.0, 6.0, 12.0)
+#: The angle [rad] of the two rings either side of the limb from it: a pixel's centre between them takes a blend of a
+#: ray to the ground and a ray past it, which where the planet's shadow meets the limb reads several times either
+#: (from 4 radii a pixel of a 720-pixel-high 30 deg view spans 7.4e-4 rad).
+LIMB_STRADDLE = 2e-5
 #: Rings on each side of the limb and sectors around the nadir of the actors' meshes (before the refinements).
 RINGS = 40
 SECTORS = 72
@@ -44,10 +49,14 @@ SECTORS = 72
 #: path's optical depth passes 1, an altitude that depends on the wavelength and the atmosphere, hence even steps.
 LIMB_RINGS = 16
 HALO_PIXELS = 1
+#: Sectors on each side of the sun where the planet's shadow meets the halo, seen from space (one per tangent
+#: altitude, :func:`_shadow_limb_azimuths`): at the ends of the lit crescent the halo falls from lit to dark within a
+#: few degrees of azimuth along the limb, which the SECTORS' 5 degrees do not resolve.
+SHADOW_LIMB_SECTORS = 9
 #: The most rings and sectors a mesh of RINGS and SECTORS has (every refinement distinct): the lengths of the
 #: shader's ring_theta and sector_phi arrays (shaders/direction_mesh.glsl).
 MESH_RINGS = 2 * RINGS + 4 + 3 + (LIMB_RINGS - 1) + 2 * len(SUN_REFINEMENT_DEG) + 1
-MESH_SECTORS = SECTORS + 2 * len(SUN_REFINEMENT_DEG) + 1
+MESH_SECTORS = SECTORS + 2 * len(SUN_REFINEMENT_DEG) + 1 + 2 * SHADOW_LIMB_SECTORS
 
 #: The order of the triangles handed to OpenGL and the vertex buffer's layout, for a software renderer's vertex
 #: reuse: llvmpipe shades the vertices of each run of 1024 indices once each (those of the next run again), telling
@@ -62,14 +71,14 @@ VERTEX_STRIDE = 273
 
 def _ring_angles(limb, top_limb, rings, bottom, top, r, pixel):
     """Angles from the nadir [rad] of the rings of a camera at ``r`` from the centre of a planet of radius
-    ``bottom`` under an atmosphere to ``top``: dense toward the limb from both sides, two rings 1e-4 rad either
-    side of it, and, from above the top (``top_limb``, the top's limb, not None), the top's limb and, where the
-    halo between the two limbs is wider than :data:`HALO_PIXELS` pixels of ``pixel`` [rad] (always for None),
-    rings of tangent altitudes across it (:data:`LIMB_RINGS`)."""
+    ``bottom`` under an atmosphere to ``top``: dense toward the limb from both sides, two rings
+    :data:`LIMB_STRADDLE` either side of it, and, from above the top (``top_limb``, the top's limb,
+    not None), the top's limb and, where the halo between the two limbs is wider than :data:`HALO_PIXELS` pixels
+    of ``pixel`` [rad] (always for None), rings of tangent altitudes across it (:data:`LIMB_RINGS`)."""
     k = np.arange(1, rings + 1) / (rings + 1)
     inside = limb * (1 - (1 - k) ** 2)
     outside = limb + (math.pi - limb) * k ** 2
-    extra = [limb - 1e-4, limb + 1e-4, 0.0, math.pi]
+    extra = [limb - LIMB_STRADDLE, limb + LIMB_STRADDLE, 0.0, math.pi]
     if top_limb is not None:
         extra += [top_limb - 1e-3, top_limb - 1e-5, top_limb + 1e-3]
         if pixel is None or top_limb - limb > HALO_PIXELS * pixel:
@@ -200,13 +209,35 @@ def direction_mesh(camera, sun, bottom, top, rings=RINGS, sectors=SECTORS, pixel
     e2 = np.cross(down, e1)
     theta_sun = math.acos(np.clip(np.dot(sun, down), -1.0, 1.0))
     refine = np.radians(SUN_REFINEMENT_DEG)
+    if top_limb is not None and theta_sun > top_limb + refine[-1]:
+        refine = refine[:0]                 # from space, no ray near the sun meets the atmosphere
     theta = np.unique(np.clip(np.concatenate([theta, theta_sun + refine, theta_sun - refine, [theta_sun]]),
                               0.0, math.pi))
     ring_radius = max(math.sin(theta_sun), 1e-3)
     phi = np.concatenate([np.linspace(-math.pi, math.pi, sectors, endpoint=False),
                           np.clip(refine / ring_radius, 0, math.pi), -np.clip(refine / ring_radius, 0, math.pi), [0.0]])
+    if top_limb is not None:
+        phi = np.concatenate([phi, _shadow_limb_azimuths(r, bottom, top, np.dot(sun, down), np.dot(sun, e1))])
     phi = np.unique(np.mod(phi + math.pi, 2 * math.pi) - math.pi)
     return DirectionMesh(theta, phi, down, e1, e2)
+
+
+def _shadow_limb_azimuths(r, bottom, top, s_down, s_e1, n=SHADOW_LIMB_SECTORS):
+    """Azimuths [rad] about the nadir (zero toward the sun's) where the planet's shadow meets the halo seen from
+    ``r`` > ``top``: for tangent radii r_h = bottom + (top - bottom) (k / (n - 1))^2, k = 0 .. n - 1, the two
+    azimuths where the ray tangent at r_h has its tangent point on the shadow cylinder's edge (on the terminator
+    for r_h = bottom). The tangent point is r sin(theta) (-sin(theta) down + cos(theta) u(phi)), sin(theta) =
+    r_h / r, u(phi) = cos(phi) e1 + sin(phi) e2, and the sun s = s_down down + s_e1 e1 (s_e1 >= 0); it lies on
+    the shadow's edge where its dot with s is -sqrt(r_h^2 - bottom^2):
+    cos(phi) = (sin(theta) s_down - sqrt(r_h^2 - bottom^2) / r_h) / (cos(theta) s_e1). Empty where the shadow
+    does not meet the halo."""
+    r_h = bottom + (top - bottom) * np.linspace(0.0, 1.0, n) ** 2
+    sin_t = r_h / r
+    cos_t = np.sqrt(1.0 - sin_t * sin_t)
+    cos_phi = (sin_t * s_down - np.sqrt(np.maximum(r_h * r_h - bottom * bottom, 0.0)) / r_h) / np.maximum(
+        cos_t * s_e1, 1e-12)
+    phi = np.arccos(cos_phi[np.abs(cos_phi) <= 1.0])
+    return np.concatenate([phi, -phi])
 
 
 @functools.lru_cache(maxsize=8)

@@ -1,14 +1,14 @@
 """The quick view as one VTK actor (plain ``vtkmodules``): Keller and Bohn's single scattering computed per vertex of
-the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/quick_view_vertex.glsl, the twin
-of planetviz/quick_view/single_scattering.py), with no 4D tables, so every atmosphere parameter takes effect at the
-next frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the ground
-from a 2D table of the mean radiance of the light scattered at least once
-(planetviz/quick_view/multiple_scattering.py), solved in NumPy in a background job that the scene starts after the
-actor's first frame (planetviz/render/background.py): that frame shows single scattering, the frames after the table
-is ready (:meth:`QuickViewActor.collect`, about 0.5 s later) all orders. The inscatter and the ground's light per
-unit of the surface colour are interpolated over the triangles and completed per fragment
-(shaders/quick_view_fragment.glsl) with the surface texture (or the file's uniform albedo) and the sun's cosine at
-the pixel's ground point, as the per-vertex table renderer does; no sun disc.
+the direction mesh around the camera (planetviz/render/direction_mesh.py; shaders/quick_view_vertex.glsl, the twin of
+planetviz/quick_view/single_scattering.py), with no 4D tables, so every atmosphere parameter takes effect at the next
+frame; with ``orders="all"`` (the default) also the orders above the first and the sky's light on the ground from a
+2D table of the mean radiance of the light scattered at least once (planetviz/quick_view/multiple_scattering.py),
+solved in NumPy in a background job that the scene starts after the actor's first frame
+(planetviz/render/background.py): that frame shows single scattering, the frames after the table is ready
+(:meth:`QuickViewActor.collect`, about 0.5 s later) all orders. The inscatter (geometrically:
+shaders/interpolation.glsl) and the ground's light per unit of the surface colour are interpolated over the triangles
+and completed per fragment (shaders/quick_view_fragment.glsl) with the surface texture (or the file's uniform albedo)
+and the sun's cosine at the pixel's ground point, as the per-vertex table renderer does; no sun disc.
 """
 from __future__ import annotations
 
@@ -92,10 +92,10 @@ class QuickViewActor(DirectionMeshActor):
             raise ValueError(f"absorption: the quick view takes at most {MAX_COMPONENTS - 2} absorbing layers, "
                              f"got {len(extinction) - 2}")
         vertex_code = (shader_constants(extinction)
-                       + shader_code("common.glsl", "view.glsl", "quick_view_vertex.glsl"))
+                       + shader_code("common.glsl", "view.glsl", "interpolation.glsl", "quick_view_vertex.glsl"))
         super().__init__(atmosphere, renderer, vertex_code,
-                         "quick_view_vertex", shader_code("common.glsl", "view.glsl", "display.glsl", "pixel.glsl",
-                                                          "quick_view_fragment.glsl"),
+                         "quick_view_vertex", shader_code("common.glsl", "view.glsl", "interpolation.glsl",
+                                                          "display.glsl", "pixel.glsl", "quick_view_fragment.glsl"),
                          "quick_view_fragment", split_at_limb=True, settings=settings)
         self._observers.append(renderer.AddObserver(vtkCommand.EndEvent, lambda *_: self.deactivate()))
 

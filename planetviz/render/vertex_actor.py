@@ -110,7 +110,7 @@ class VertexAtmosphereActor(DirectionMeshActor):
         self.tables = tables
         self.textures = TableTextures(atmosphere, tables, surface, half_float_tables, surface_texture)
         self.factor_textures = InscatterFactorTextures(atmosphere, tables)
-        shaders = (*self.textures.shaders, "inscatter_factor.glsl")
+        shaders = (*self.textures.shaders, "inscatter_factor.glsl", "interpolation.glsl")
         super().__init__(atmosphere, renderer, shader_code(*shaders, "atmosphere_vertex.glsl"), "atmosphere_vertex",
                          shader_code(*shaders, "display.glsl", "pixel.glsl", "atmosphere_interpolated.glsl"),
                          "atmosphere_interpolated", split_at_limb=True, settings=settings)
