@@ -30,12 +30,29 @@ float correction(float pixel, float interpolated) {
     return interpolated > 0.0 ? min(pixel / interpolated, MAX_FACTOR_CORRECTION) : 1.0;
 }
 
+// The inscatter: its colour times its magnitude interpolated geometrically (interpolation.glsl) and multiplied by
+// the pixel's factor over the geometric interpolant of the vertices' factors, so that where the inscatter and its
+// factor fall together by orders of magnitude across a triangle (a halo narrower than a pixel, the ground's twilight
+// band) their ratio is what is interpolated. Two bounds, each relative to a linear interpolant (which bounds a value
+// by its vertices'): the pixel's factor at most MAX_FACTOR_CORRECTION times the vertices' factors' (relative to the
+// geometric interpolant, which inside such a triangle is many times below the linear one, the bound would cut the
+// pixels to a fraction of their value), and the result at most MAX_FACTOR_CORRECTION times the vertices' magnitudes'
+// (where a vertex's factor is 0, its sun below the factor's table, and its inscatter is not, the ratio alone would
+// be unbounded).
+vec3 corrected_inscatter(float pixel_factor) {
+    float geometric_factor = geometric_scalar(mesh_factor, mesh_log_factor);
+    float magnitude = geometric_scalar(mesh_magnitude, mesh_log_magnitude);
+    if (geometric_factor > 0.0) {
+        magnitude *= min(pixel_factor, MAX_FACTOR_CORRECTION * mesh_factor) / geometric_factor;
+    }
+    return mesh_inscatter * min(magnitude, MAX_FACTOR_CORRECTION * mesh_magnitude);
+}
+
 vec4 atmosphere_interpolated() {
     vec3 v = pixel_direction();
     ViewRay ray = view_ray(v);
     RayFactors f = ray_factors(ray, mesh_phase_weights, !sky_part);
-    vec3 value = geometric_value(mesh_inscatter, mesh_magnitude, mesh_log_magnitude)
-        * correction(f.inscatter, geometric_scalar(mesh_factor, mesh_log_factor));
+    vec3 value = corrected_inscatter(f.inscatter);
     bool ground = false;
     if (!sky_part) {
         ground = ray_hits_ground(ray);
