@@ -116,6 +116,48 @@ def test_the_mesh_is_dense_around_the_sun_and_straddles_the_horizon():
     assert tris.max() < len(dirs)
 
 
+@pytest.mark.parametrize("sun_angle_deg", [5.0, 100.0, 150.0])
+def test_from_space_the_mesh_has_sectors_where_the_planets_shadow_meets_the_halo(sun_angle_deg):
+    # The sectors of _shadow_limb_azimuths against an independent search: for each tangent radius r_h of
+    # SHADOW_LIMB_SECTORS, the azimuths (about the mesh's nadir) at which the tangent point of the ray grazing the
+    # sphere r_h, built from the mesh's own axes, lies on the edge of the planet's shadow cylinder (its dot with
+    # the sun -sqrt(r_h^2 - R^2)), found by bisecting a sign change on a grid of 20,000 azimuths. Bisection to 1e-12
+    # rad; the mesh's float64 closed form agrees to rounding, so a sector within 1e-9 rad of each root.
+    from planetviz.render.direction_mesh import SHADOW_LIMB_SECTORS
+    R, top = 6.36e6, 6.46e6
+    up = np.array([0.3, -0.2, 0.93])
+    up /= np.linalg.norm(up)
+    cam = 4.0 * R * up
+    a = np.radians(sun_angle_deg)                                   # the sun's angle from the camera's zenith
+    side = np.cross(up, [1.0, 0.0, 0.0])
+    side /= np.linalg.norm(side)
+    sun = np.cos(a) * up + np.sin(a) * side
+    mesh = direction_mesh(cam, sun, R, top)
+
+    def edge(phi, r_h):
+        sin_t = r_h / (4.0 * R)
+        phi = np.atleast_1d(phi)[:, None]
+        u = np.cos(phi) * mesh.e1 + np.sin(phi) * mesh.e2
+        tangent = 4.0 * R * sin_t * (-sin_t * mesh.down + np.sqrt(1.0 - sin_t ** 2) * u)
+        return tangent @ sun + np.sqrt(r_h ** 2 - R ** 2)
+
+    found = 0
+    grid = np.linspace(-np.pi, np.pi, 20001)
+    for r_h in R + (top - R) * np.linspace(0.0, 1.0, SHADOW_LIMB_SECTORS) ** 2:
+        values = edge(grid, r_h)
+        for k in np.nonzero(np.sign(values[:-1]) != np.sign(values[1:]))[0]:
+            lo, hi = grid[k], grid[k + 1]
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if np.sign(edge(mid, r_h)[0]) == np.sign(values[k]) else (lo, mid)
+            assert np.min(np.abs(mesh.phi - 0.5 * (lo + hi))) < 1e-9, (r_h - R, 0.5 * (lo + hi))
+            found += 1
+    # With the sun 100 or 150 deg from the camera's zenith the shadow's edge crosses the halo on both sides of the
+    # sun at every tangent radius; with the sun 5 deg from it the whole disc and halo in view are lit (the
+    # terminator lies beyond the limb, 85 deg from the sub-camera point against the limb's 75.5).
+    assert found == (0 if sun_angle_deg == 5.0 else 2 * SHADOW_LIMB_SECTORS), found
+
+
 def test_a_change_that_needs_tables_shows_the_quick_view_until_they_are_ready():
     earth = load_atmosphere("earth")
     scene = Scene(earth, quality="draft", surface=None, off_screen=True, window_size=SIZE, cache=False)
