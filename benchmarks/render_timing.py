@@ -7,16 +7,17 @@ per pixel and per vertex, beside a plain textured sphere timed in the same run.
 Views: Earth from orbit (4 radii, 30 deg: the planet fills ~40% of the frame), from the ground (2 m, looking along
 the horizon: the whole frame is sky and ground), the same in twilight (the sun 3 deg below the horizon ahead: every
 ray's single scattering by quadrature, docs/tables.md) and from 1e9 m (the planet a few pixels wide), and from orbit
-over the night side (the sun 60 deg below the horizon under the camera: a lit crescent along the limb, the mesh's
-sectors where the planet's shadow meets the halo); the sun as the scene places it by default except in twilight and
-over the night side. The plain sphere is PyVista's textured sphere with VTK's default lighting and the same Earth
-texture, seen from the orbit view: what a globe without an atmosphere costs, drawn in its own window in each round of
-per-vertex frames (one with the camera just turned by 0.5 deg about its focal point, the way a drag in the window
-turns it, back and forth from round to round so the view stays; one with it still), so that each ratio to it is
-measured over the same seconds (this machine's speed drifts by 10-30% between runs). Median ms per frame over
-``--frames`` rounds (``--pixel-frames`` frames for the per-pixel renderer, at 1-4 s per frame on llvmpipe), each
-frame finished with WaitForCompletion, after one warm-up frame (shader compile and table upload). Multisampling is
-off everywhere (PyVista's default of 8 samples triples llvmpipe's frame time).
+over the terminator (the sun on the horizon under the camera) and the night side (60 deg below it: a lit crescent
+along the limb; both with the mesh's sectors where the planet's shadow meets the halo); the sun as the scene places
+it by default except in twilight and over the terminator and the night side. The plain sphere is PyVista's textured
+sphere with VTK's default lighting and the same Earth texture, seen from the orbit view: what a globe without an
+atmosphere costs, drawn in its own window in each round of per-vertex frames (one with the camera just turned by 0.5
+deg about its focal point, the way a drag in the window turns it, back and forth from round to round so the view
+stays; one with it still), so that each ratio to it is measured over the same seconds (this machine's speed drifts by
+10-30% between runs). Median ms per frame over ``--frames`` rounds (``--pixel-frames`` frames for the per-pixel
+renderer, at 1-4 s per frame on llvmpipe), each frame finished with WaitForCompletion, after one warm-up frame
+(shader compile and table upload). Multisampling is off everywhere (PyVista's default of 8 samples triples llvmpipe's
+frame time).
 """
 import argparse
 import os
@@ -73,6 +74,8 @@ VIEWS = {"orbit (4 radii)": lambda s: s.view_from_space(latitude=20, longitude=1
          "ground, sky and ground": lambda s: s.view_from_ground(latitude=45, heading=90, pitch=5),
          "ground, twilight": lambda s: (s.set_sun(elevation=-3.0, azimuth=90.0, latitude=45.0, longitude=0.0),
                                         s.view_from_ground(latitude=45, heading=90, pitch=5)),
+         "orbit, terminator": lambda s: (s.set_sun(elevation=0.0, azimuth=90.0, latitude=0.0, longitude=0.0),
+                                         s.view_from_space(latitude=0, longitude=0)),
          "orbit, night side": lambda s: (s.set_sun(elevation=-60.0, azimuth=90.0, latitude=0.0, longitude=0.0),
                                          s.view_from_space(latitude=0, longitude=0)),
          "1e9 m (a few pixels)": lambda s: s.view_from_space(distance=1e9, fov=30)}

@@ -345,7 +345,7 @@ def test_the_path_opacity_table_follows_the_camera_altitude(vertex):
 
 
 #: The rows of docs/benchmarks.md's per-vertex accuracy table that miss the issue's targets, and which of the two
-#: they miss (1280x720, standard): the night side from orbit on Earth and the thick planet, 2.2-2.4% RMS (p99 within
+#: they miss (1280x720, standard): the night side from orbit on Earth and the thick planet, 2.2-2.5% RMS (p99 within
 #: 3%). What limits it is written there: a few hundred pixels at the two ends of the lit crescent, where the planet's
 #: shadow meets the limb, read 2-4 times the per-pixel value, on the limb itself and up to 3 pixels inside it on
 #: Earth, within a pixel above it on the thick planet.

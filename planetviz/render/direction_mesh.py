@@ -51,7 +51,8 @@ LIMB_RINGS = 16
 HALO_PIXELS = 1
 #: Sectors on each side of the sun where the planet's shadow meets the halo, seen from space (one per tangent
 #: altitude, :func:`_shadow_limb_azimuths`): at the ends of the lit crescent the halo falls from lit to dark within a
-#: few degrees of azimuth along the limb, which the SECTORS' 5 degrees do not resolve.
+#: few degrees of azimuth along the limb, which the SECTORS' 5 degrees do not resolve. Any other sector within a
+#: quarter of the SECTORS' spacing of one of them is left out.
 SHADOW_LIMB_SECTORS = 9
 #: The most rings and sectors a mesh of RINGS and SECTORS has (every refinement distinct): the lengths of the
 #: shader's ring_theta and sector_phi arrays (shaders/direction_mesh.glsl).
@@ -217,7 +218,11 @@ def direction_mesh(camera, sun, bottom, top, rings=RINGS, sectors=SECTORS, pixel
     phi = np.concatenate([np.linspace(-math.pi, math.pi, sectors, endpoint=False),
                           np.clip(refine / ring_radius, 0, math.pi), -np.clip(refine / ring_radius, 0, math.pi), [0.0]])
     if top_limb is not None:
-        phi = np.concatenate([phi, _shadow_limb_azimuths(r, bottom, top, np.dot(sun, down), np.dot(sun, e1))])
+        # The shadow's sectors take the place of the others within a quarter of their spacing of one.
+        shadow = _shadow_limb_azimuths(r, bottom, top, np.dot(sun, down), np.dot(sun, e1))
+        if shadow.size:
+            gap = np.abs(np.angle(np.exp(1j * (phi[:, None] - shadow[None, :])))).min(axis=1)
+            phi = np.concatenate([phi[gap > 0.5 * math.pi / sectors], shadow])
     phi = np.unique(np.mod(phi + math.pi, 2 * math.pi) - math.pi)
     return DirectionMesh(theta, phi, down, e1, e2)
 
