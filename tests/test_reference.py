@@ -254,3 +254,23 @@ def test_single_scattering_quadrature_converges():
         fine = sum(single_scattering(atm, cam, view, sun, panels=48))
         lit = fine > 1e-12
         assert np.all(np.abs(coarse - fine)[lit] <= 1e-4 * fine[lit]), name
+
+
+def test_a_stored_result_is_read_back_only_for_the_orders_it_solved(tmp_path, monkeypatch):
+    # planetviz.reference.stored keeps the orders solved (max_order) with a result: a file of orders 1-2 must not
+    # answer a request for all orders, nor the reverse, and each must answer its own request without solving.
+    from planetviz.reference import stored
+    atm = load_atmosphere("earth")
+    ray = ([[0.0, 0.0, atm.bottom_radius_m + 2.0]], [[0.0, 0.6, 0.8]], [0.0, 0.5, 0.866])
+    both = stored.stored_solve(tmp_path / "two.npz", atm, *ray, samples=64, max_order=2)
+    every = stored.stored_solve(tmp_path / "all.npz", atm, *ray, samples=64)
+    solved = []
+    monkeypatch.setattr(stored, "solve", lambda *a, **k: solved.append(k["max_order"]) or solve(*a, **k))
+    assert np.array_equal(stored.stored_solve(tmp_path / "two.npz", atm, *ray, samples=64, max_order=2).radiance,
+                          both.radiance)
+    assert np.array_equal(stored.stored_solve(tmp_path / "all.npz", atm, *ray, samples=64).radiance,
+                          every.radiance)
+    assert solved == []
+    stored.stored_solve(tmp_path / "two.npz", atm, *ray, samples=64)
+    stored.stored_solve(tmp_path / "all.npz", atm, *ray, samples=64, max_order=2)
+    assert solved == [None, 2]

@@ -19,8 +19,10 @@ import numpy as np
 from .montecarlo import SOLVER_VERSION, ReferenceResult, solve
 
 
-def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0) -> ReferenceResult:
-    """:func:`~planetviz.reference.solve` through the file ``path`` (.npz), recomputed when stale.
+def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
+                 max_order: int | None = None) -> ReferenceResult:
+    """:func:`~planetviz.reference.solve` through the file ``path`` (.npz), recomputed when stale. ``max_order``:
+    the orders of scattering solved (all by default), stored with the result.
 
     Example
     -------
@@ -37,10 +39,12 @@ def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int =
     sun_dir = np.broadcast_to(np.asarray(sun_dir, dtype=float), camera.shape)
     wanted = {"parameters": radiance_parameters(atm), "solver_version": SOLVER_VERSION, "paths": samples,
               "seed": seed}
+    if max_order is not None:
+        wanted["max_order"] = max_order
     stored = _load(path, wanted, (camera, view_dir, sun_dir))
     if stored is not None:
         return stored
-    res = solve(atm, camera, view_dir, sun_dir, samples=samples, seed=seed)
+    res = solve(atm, camera, view_dir, sun_dir, samples=samples, seed=seed, max_order=max_order)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp.npz")
     np.savez(tmp, radiance=res.radiance, radiance_stderr=res.stderr, transmittance=res.transmittance,
@@ -56,12 +60,14 @@ def radiance_parameters(atm) -> str:
     return json.dumps({key: value for key, value in atm.to_dict().items() if key != "star"}, indent=2)
 
 
-def stored_reference(folder, tag, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0) -> ReferenceResult:
+def stored_reference(folder, tag, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
+                     max_order: int | None = None) -> ReferenceResult:
     """:func:`stored_solve` through ``folder/test-<tag>-<hash of the rays>.npz`` (the rays hashed in float32, so
     that rays computed on another machine, which may differ in the last bit of float64, name the same file)."""
     rays = np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (camera, view_dir, sun_dir)])
     name = f"test-{tag}-{hashlib.sha1(rays.astype(np.float32).tobytes()).hexdigest()[:10]}.npz"
-    return stored_solve(Path(folder) / name, atm, camera, view_dir, sun_dir, samples=samples, seed=seed)
+    return stored_solve(Path(folder) / name, atm, camera, view_dir, sun_dir, samples=samples, seed=seed,
+                        max_order=max_order)
 
 
 #: Relative tolerance of the match between stored and requested rays and parameters: rays and atmospheres drawn
@@ -88,7 +94,8 @@ def _load(path, wanted, rays):
         with np.load(path) as f:
             if not _same(json.loads(str(f["parameters"])), json.loads(wanted["parameters"])):
                 return None
-            if any(str(f[key]) != str(value) for key, value in wanted.items() if key != "parameters"):
+            if ("max_order" in f.files) != ("max_order" in wanted) or \
+                    any(str(f[key]) != str(value) for key, value in wanted.items() if key != "parameters"):
                 return None
             scale = max(float(np.max(np.abs(rays[0]))), 1.0)            # cameras in metres, directions unit
             if any(np.shape(f[key]) != np.shape(ray) or not np.allclose(f[key], ray, rtol=0.0, atol=MATCH_RTOL * s)

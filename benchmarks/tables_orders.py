@@ -1,0 +1,106 @@
+"""The tables' first two orders of scattering against the reference's, on the suite's random atmospheres and the
+presets, per light class and camera class, for the tuning and the held-out split.
+
+    python benchmarks/tables_orders.py [--split tuning held-out] [--atmospheres 8] [--paths 16384]
+                                       [--presets earth mars exo-co2-thick] [--directions N_THETA N_PHI ...]
+
+The same atmospheres and rays as benchmarks/tables_suite.py. The tables' orders 1 and 2 (the multiple-scattering
+stage stopped after order 2, its sky irradiance then that of order 1) against the reference solver's
+(``max_order=2``, ``--paths`` per ray and wavelength, stored in benchmarks/data/orders/): in twilight the light of
+order 2 comes from a thin band of lit air near the horizontal toward the sun, which the scattering density's
+direction quadrature resolves or misses, and the reference resolves it far better than all orders (a path of two
+events has no long diffusion into the shadow). ``--directions`` gives one or more direction quadratures of the
+scattering density (cosines over both hemispheres, azimuths over half the circle) to compare, each pair in turn;
+by default the quality level's own.
+
+Printed per quadrature, split and light class: the number of values (ray x wavelength, the reference above
+1e-12 / sr and its relative standard error below 20%, cameras within 100 m of the top apart), the RMS, median and
+largest relative error, and the RMS of the reference's relative standard error; then the cameras within 100 m of
+the top, whose radiance of order 2 in deep twilight is 1e-13 to 1e-11 / sr.
+"""
+import argparse
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from planetviz.reference.stored import stored_reference
+from planetviz.tables import QUALITY, TableCache, precompute
+from planetviz.tables.evaluator import sky_radiance
+from planetviz.tables.multiple import multiple_scattering
+from planetviz.tables.precompute import sizes_for
+from planetviz.validation import CAMERAS, LIGHT, SPLITS, rays
+from tables_suite import cases
+
+DATA = Path(__file__).resolve().parent / "data" / "orders"
+
+
+def first_two_orders(tables, atm, sizes, directions):
+    """``tables`` with their multiple-scattering tables holding order 2 only and their sky irradiance order 1."""
+    ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *directions,
+                                                    samples=sizes.multiple_samples, tolerance=0.0, max_orders=2)
+    return replace(tables, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32),
+                   irradiance=irradiance.astype(np.float32))
+
+
+def compare(split, args, quadratures):
+    """{quadrature: rows (atmosphere, camera class, light class, relative error (W,), relative noise (W,))}."""
+    rows = {q: [] for q in quadratures}
+    cache = TableCache()
+    for name, atm, seed in cases(split, args.atmospheres, args.presets):
+        sizes = sizes_for(atm, QUALITY["standard"])
+        tables = precompute(atm, QUALITY["standard"], cache=cache)
+        for light in LIGHT:
+            batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
+            cams, views, suns = (np.concatenate(x) for x in zip(*batch))
+            ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths,
+                                   seed=seed + 11, max_order=2)
+            for q in quadratures:
+                got, _ = sky_radiance(first_two_orders(tables, atm, sizes, q or sizes.directions), atm, cams,
+                                      views, suns)
+                for k in range(len(cams)):
+                    ok = ref.radiance[k] > 1e-12
+                    rows[q].append((name, CAMERAS[k // 2], light, got[k][ok] / ref.radiance[k][ok] - 1.0,
+                                    ref.stderr[k][ok] / ref.radiance[k][ok]))
+        print(f"  {split}: {name} done", flush=True)
+    return rows
+
+
+def report(split, q, rows):
+    label = "the level's own" if q is None else f"{q[0]}x{q[1]}"
+    print(f"\n{split} split, directions {label}")
+    print("| light | cameras | values | RMS error | median | largest | reference noise (RMS) |")
+    print("|---|---|---|---|---|---|---|")
+    for light in LIGHT:
+        for top in (False, True):
+            sel = [(e, n) for r in rows if r[2] == light and (r[1] == "top") == top for e, n in zip(r[3], r[4])
+                   if n < 0.2]
+            if not sel:
+                continue
+            err, noise = np.array(sel).T
+            print(f"| {light} | {'within 100 m of the top' if top else 'all others'} | {err.size} | "
+                  f"{100 * np.sqrt(np.mean(err ** 2)):.1f}% | {100 * np.median(np.abs(err)):.1f}% | "
+                  f"{100 * np.abs(err).max():.0f}% | {100 * np.sqrt(np.mean(noise ** 2)):.1f}% |")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--split", nargs="+", default=list(SPLITS), choices=list(SPLITS))
+    ap.add_argument("--atmospheres", type=int, default=8)
+    ap.add_argument("--paths", type=int, default=16384)
+    ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
+    ap.add_argument("--directions", type=int, nargs="+", metavar="N",
+                    help="pairs N_THETA N_PHI of the scattering density's direction quadrature")
+    args = ap.parse_args()
+    if args.directions and len(args.directions) % 2:
+        ap.error("--directions: pairs N_THETA N_PHI")
+    quadratures = [None] if not args.directions else \
+        [tuple(args.directions[i:i + 2]) for i in range(0, len(args.directions), 2)]
+    for split in args.split:
+        rows = compare(split, args, quadratures)
+        for q in quadratures:
+            report(split, q, rows[q])
+
+
+if __name__ == "__main__":
+    main()
