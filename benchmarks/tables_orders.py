@@ -3,6 +3,7 @@ presets, per light class and camera class, for the tuning and the held-out split
 
     python benchmarks/tables_orders.py [--split tuning held-out] [--atmospheres 8] [--paths 16384]
                                        [--presets earth mars exo-co2-thick] [--directions N_THETA N_PHI ...]
+                                       [--worst 10]
 
 The same atmospheres and rays as benchmarks/tables_suite.py. The tables' orders 1 and 2 (the multiple-scattering
 stage stopped after order 2, its sky irradiance then that of order 1) against the reference solver's
@@ -16,7 +17,8 @@ by default the quality level's own.
 Printed per quadrature, split and light class: the number of values (ray x wavelength, the reference above
 1e-12 / sr and its relative standard error below 20%, cameras within 100 m of the top apart), the RMS, median and
 largest relative error, and the RMS of the reference's relative standard error; then the cameras within 100 m of
-the top, whose radiance of order 2 in deep twilight is 1e-13 to 1e-11 / sr.
+the top, whose radiance of order 2 in deep twilight is 1e-13 to 1e-11 / sr; then the ``--worst`` largest errors
+with their atmosphere and ray class.
 """
 import argparse
 from dataclasses import replace
@@ -66,7 +68,7 @@ def compare(split, args, quadratures):
     return rows
 
 
-def report(split, q, rows):
+def report(split, q, rows, worst):
     label = "the level's own" if q is None else f"{q[0]}x{q[1]}"
     print(f"\n{split} split, directions {label}")
     print("| light | cameras | values | RMS error | median | largest | reference noise (RMS) |")
@@ -81,6 +83,11 @@ def report(split, q, rows):
             print(f"| {light} | {'within 100 m of the top' if top else 'all others'} | {err.size} | "
                   f"{100 * np.sqrt(np.mean(err ** 2)):.1f}% | {100 * np.median(np.abs(err)):.1f}% | "
                   f"{100 * np.abs(err).max():.0f}% | {100 * np.sqrt(np.mean(noise ** 2)):.1f}% |")
+    flat = [(e, n, r) for r in rows for e, n in zip(r[3], r[4]) if n < 0.2]
+    if worst:
+        print(f"\nlargest errors ({split}, directions {label}):")
+    for e, n, r in sorted(flat, key=lambda x: -abs(x[0]))[:worst]:
+        print(f"  {e:+.3f} (noise {n:.3f})  {r[0]}, {r[1]}, {r[2]}")
 
 
 def main():
@@ -89,6 +96,7 @@ def main():
     ap.add_argument("--atmospheres", type=int, default=8)
     ap.add_argument("--paths", type=int, default=16384)
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
+    ap.add_argument("--worst", type=int, default=10)
     ap.add_argument("--directions", type=int, nargs="+", metavar="N",
                     help="pairs N_THETA N_PHI of the scattering density's direction quadrature")
     args = ap.parse_args()
@@ -99,7 +107,7 @@ def main():
     for split in args.split:
         rows = compare(split, args, quadratures)
         for q in quadratures:
-            report(split, q, rows[q])
+            report(split, q, rows[q], args.worst)
 
 
 if __name__ == "__main__":
