@@ -52,14 +52,14 @@ def compare(split, args, quadratures):
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
         sizes = sizes_for(atm, QUALITY["standard"])
         tables = precompute(atm, QUALITY["standard"], cache=cache)
+        two_orders = {q: first_two_orders(tables, atm, sizes, q or sizes.directions) for q in quadratures}
         for light in LIGHT:
             batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
             cams, views, suns = (np.concatenate(x) for x in zip(*batch))
             ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths,
                                    seed=seed + 11, max_order=2)
             for q in quadratures:
-                got, _ = sky_radiance(first_two_orders(tables, atm, sizes, q or sizes.directions), atm, cams,
-                                      views, suns)
+                got, _ = sky_radiance(two_orders[q], atm, cams, views, suns)
                 for k in range(len(cams)):
                     ok = ref.radiance[k] > 1e-12
                     rows[q].append((name, CAMERAS[k // 2], light, got[k][ok] / ref.radiance[k][ok] - 1.0,

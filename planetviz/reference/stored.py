@@ -1,7 +1,8 @@
 """Reference results computed once and kept in .npz files with everything they depend on.
 
 A stored result holds the radiance, its standard error and the view transmittance, with the atmosphere's
-parameters (JSON, :func:`radiance_parameters`), the rays, the paths per ray, the seed and :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`.
+parameters (JSON, :func:`radiance_parameters`), the rays, the paths per ray, the seed, :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`
+and, for a result of the first orders only, ``max_order``.
 :func:`stored_solve` returns it while all of those match the request and recomputes (and rewrites) it when any
 differs or the file cannot be read. :func:`stored_reference` names the file after a tag and the rays, for a
 folder of such results (the repository's benchmarks/data/ for its tests and benchmarks).
