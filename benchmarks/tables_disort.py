@@ -10,7 +10,7 @@ looking up and at the top looking down, view zenith 20, 55 and 78 deg x azimuth 
 the sun at each zenith angle of ``--suns``. Printed per radius, atmosphere and camera: the RMS and the largest
 relative difference of the tables' radiance from DISORT's over rays and wavelengths. The planet's curvature
 moves the answer by under 1e-3 at 1e8 m for these views (60 km over 1e8 m; the 78 deg views cross 290 km).
-``--ratio-limit`` sets parameterization.MU_S_RATIO_LIMIT for this run (``inf``: Bruneton's mu_s mapping on the
+``--ratio-limit`` sets parameterization.RATIO_LIMIT for this run (``inf``: Bruneton's mu_s mapping on the
 planet's own radii); the tables are then computed afresh, not read from the cache.
 """
 import argparse
@@ -31,7 +31,7 @@ def main():
     args = ap.parse_args()
     cache = TableCache()
     if args.ratio_limit is not None:
-        parameterization.MU_S_RATIO_LIMIT = args.ratio_limit
+        parameterization.RATIO_LIMIT = args.ratio_limit
         cache = None
     print("| radius [m] | atmosphere | camera | values | RMS | largest |")
     print("|---|---|---|---|---|---|")

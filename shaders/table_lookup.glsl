@@ -151,14 +151,19 @@ vec4 get_irradiance(float a, float mu_s, int g) {
 }
 
 // ---------------------------------------------------------------------------------------------- scattering
-// Bruneton's sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation), on the
-// geometry of parameterization.py's mu_s_geometry: the planet's radii, or a smaller planet under the same
-// thickness whose H / (R_t - R_b) is MU_S_RATIO_LIMIT.
-const float MU_S_RATIO_LIMIT = 16.0;
+// The radius of parameterization.py's limited_geometry: the planet's, or that of a smaller planet under the same
+// thickness whose H / (R_t - R_b) is RATIO_LIMIT.
+const float RATIO_LIMIT = 16.0;
 
+float limited_bottom_radius() {
+    return min(bottom_radius, (top_radius - bottom_radius) * (RATIO_LIMIT * RATIO_LIMIT - 1.0) / 2.0);
+}
+
+// Bruneton's sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation), on the
+// geometry of limited_bottom_radius.
 float x_mu_s_from_mu_s(float mu_s) {
     float thickness = top_radius - bottom_radius;
-    float r = min(bottom_radius, thickness * (MU_S_RATIO_LIMIT * MU_S_RATIO_LIMIT - 1.0) / 2.0);
+    float r = limited_bottom_radius();
     float top = r + thickness;
     float d_min = thickness;
     float d_max = sqrt(thickness * (top + r));
@@ -169,20 +174,49 @@ float x_mu_s_from_mu_s(float mu_s) {
     return (1.0 - a / big_a) / (1.0 + a);
 }
 
+// k [1/m] of the view-zenith axis's distance coordinate for a camera at altitude a, in the ground half or the sky
+// half: 1 / d_max' - 1 / d_max, the longest ray of that half on limited_bottom_radius's planet and on this one;
+// 0 where they are one (parameterization.py's distance_warp says why).
+float distance_warp(float a, bool ground) {
+    float small = limited_bottom_radius();
+    if (small >= bottom_radius) return 0.0;
+    float rho_small = sqrt(max(a, 0.0) * (2.0 * small + max(a, 0.0)));
+    float rho = rho_of(a);
+    if (ground) return rho_small > 0.0 ? max(1.0 / rho_small - 1.0 / rho, 0.0) : 0.0;
+    float thickness = top_radius - bottom_radius;
+    float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
+    return max(1.0 / (rho_small + sqrt(thickness * (2.0 * small + thickness))) - 1.0 / (rho + h), 0.0);
+}
+
+// x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max: linear in d / (1 + k d)
+// (parameterization.py's distance_coordinate); 0 where the half is a single ray.
+float distance_coordinate(float d, float d_min, float d_max, float k) {
+    float low = d_min / (1.0 + k * d_min);
+    float span = d_max / (1.0 + k * d_max) - low;
+    return span > 0.0 ? (d / (1.0 + k * d) - low) / span : 0.0;
+}
+
+// Its inverse: the length of the ray at x.
+float distance_from_coordinate(float x, float d_min, float d_max, float k) {
+    float low = d_min / (1.0 + k * d_min);
+    float w = low + x * (d_max / (1.0 + k * d_max) - low);
+    return w / (1.0 - k * w);
+}
+
 // The sky half's refinement of the rays that dip below the horizontal, past the pivot x_p:
 // x_p + (1 - x_p)(1 - G(t)), t = (1 - x) / (1 - x_p), G(t) = (1 - w) t + w (a S_e(t) + (1 - a) t^2), a = SQRT_SHARE,
 // S_e(t) = (sqrt(t + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)) written without cancellation, e = LINEAR_ALTITUDE
 // (R_t - R_b) / a; parameterization.py's dipping_pivot_and_weight and refine_dipping_rays say how x_p, w and e
 // follow the camera's altitude a, and why.
-// h, d_min and d_max are the caller's (scattering_uvwz_from_r_mu_mu_s_nu's sky half), not recomputed per call.
+// h, d_min, d_max and k are the caller's (scattering_uvwz_from_r_mu_mu_s_nu's sky half), not recomputed per call.
 const float PIVOT_SMOOTHING = 0.03;
 const float REFINEMENT_ALTITUDE = 0.1;
 const float SQRT_SHARE = 5.0 / 6.0;
 const float LINEAR_ALTITUDE = 0.005;
-float refine_dipping_rays(float x, float a, float h, float d_min, float d_max) {
+float refine_dipping_rays(float x, float a, float h, float d_min, float d_max, float k) {
     float c = PIVOT_SMOOTHING * h;
     float s = max(d_min * (top_radius + radius_of(a)), 0.0);
-    float x_p = clamp((s / sqrt(s + c * c) - d_min) / (d_max - d_min), 0.0, 1.0);
+    float x_p = clamp(distance_coordinate(s / sqrt(s + c * c), d_min, d_max, k), 0.0, 1.0);
     if (x <= x_p) return x;
     float w = 1.0 - exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * (top_radius - bottom_radius)));
     float t = clamp((1.0 - x) / max(1.0 - x_p, 1e-30), 0.0, 1.0);
@@ -209,15 +243,14 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, 
     float u_mu;
     if (intersects_ground) {
         float d = distance_to_bottom_atmosphere_boundary(a, mu);
-        float d_min = a;
-        float d_max = rho;
-        float x = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
+        float x = distance_coordinate(d, a, rho, distance_warp(a, true));
         u_mu = 0.5 - 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
     } else {
         float d = -r_mu + safe_sqrt(disc + h * h);
         float d_min = (top_radius - bottom_radius) - a;
         float d_max = rho + h;
-        float x = refine_dipping_rays((d - d_min) / (d_max - d_min), a, h, d_min, d_max);
+        float k = distance_warp(a, false);
+        float x = refine_dipping_rays(distance_coordinate(d, d_min, d_max, k), a, h, d_min, d_max, k);
         u_mu = 0.5 + 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
     }
     float u_mu_s = texcoord_from_unit_range(max(x_mu_s_from_mu_s(mu_s), 0.0), size.y);
@@ -241,10 +274,10 @@ vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, int
     float f = rho / h * (n_r - 1.0);
     if (!intersects_ground || f <= 0.0 || f >= 1.0) return vec4(1.0);
     float d = distance_to_bottom_atmosphere_boundary(a, mu);
-    float x = rho > a ? (d - a) / (rho - a) : 0.0;
+    float x = distance_coordinate(d, a, rho, distance_warp(a, true));
     float rho_1 = h / (n_r - 1.0);
     float a_1 = rho_1 * rho_1 / (sqrt(rho_1 * rho_1 + bottom_radius * bottom_radius) + bottom_radius);
-    float d_1 = a_1 + x * (rho_1 - a_1);
+    float d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(a_1, true));
     float mu_1 = clamp_cosine(-(rho_1 * rho_1 + d_1 * d_1) / (2.0 * radius_of(a_1) * d_1));
     vec4 tau_1 = get_optical_depth(a_1, mu_1, d_1, g);
     float k = d / d_1;

@@ -189,16 +189,17 @@ def test_twilight_rays_are_integrated_in_the_shaders_as_in_the_evaluator(shading
 
 @pytest.mark.parametrize("shading", ["pixel", "vertex"])
 def test_a_large_planets_sun_angles_are_read_as_in_the_evaluator(shading):
-    # parameterization.mu_s_geometry (GLSL twin in shaders/table_lookup.glsl, x_mu_s_from_mu_s): on a 1e9 m planet
-    # under 60 km of air the sun-zenith texels are placed on a smaller planet's geometry; the shaders must read
-    # them where the evaluator does. From the ground looking up and from 1000 km looking down, the sun 50 deg from
-    # the zenith; bound as the generated views'. Read on the planet's own geometry instead, the coordinate of a
-    # sun 50 deg from the zenith moves by 1.2 of the multiple-scattering tables' 32 texels (a shader that did so
-    # read 17% off).
-    from planetviz.tables.parameterization import mu_s_geometry
+    # parameterization.limited_geometry and distance_warp (GLSL twins in shaders/table_lookup.glsl,
+    # x_mu_s_from_mu_s and distance_warp): on a 1e9 m planet under 60 km of air the sun-zenith texels are placed on
+    # a smaller planet's geometry and the view-zenith texels spread as on it; the shaders must read them where the
+    # evaluator does. From the ground looking up and from 1000 km looking down, the sun 50 deg from the zenith;
+    # bound as the generated views'. Read on the planet's own geometry instead, the coordinate of a sun 50 deg
+    # from the zenith moves by 1.2 of the multiple-scattering tables' 32 texels (a shader that did so read 17% off).
+    from planetviz.tables.parameterization import distance_warp, limited_geometry
     from planetviz.validation.disort import plane_parallel_atmosphere
     atm = plane_parallel_atmosphere(False, 1e9)
-    assert mu_s_geometry(atm.bottom_radius_m, atm.top_radius_m)[0] < atm.bottom_radius_m
+    assert limited_geometry(atm.bottom_radius_m, atm.top_radius_m)[0] < atm.bottom_radius_m
+    assert distance_warp(atm.bottom_radius_m, atm.bottom_radius_m, atm.top_radius_m, False) > 0.0
     scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=SIZE, shading=shading)
     scene.settings.show_sun = False
     try:

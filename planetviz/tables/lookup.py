@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .parameterization import (distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary,
-                               irradiance_uv_from_r_mu_s, ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu,
-                               texcoord_from_unit_range, transmittance_uv_from_r_mu, x_mu_s_from_mu_s)
+from .parameterization import (distance_coordinate, distance_from_coordinate, distance_to_bottom_atmosphere_boundary,
+                               distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
+                               ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu, texcoord_from_unit_range, transmittance_uv_from_r_mu, x_mu_s_from_mu_s)
 from .sampling import texel_axis
 from .sampling import texture2d
 
@@ -139,11 +139,11 @@ def ground_row_factor(t, r, mu, intersects_ground, n_r):
     r, mu, rho, f = r[sel], mu[sel], rho[sel], f[sel]
     a = r - t.bottom
     d = distance_to_bottom_atmosphere_boundary(r, mu, t.bottom)
-    x = np.where(rho > a, (d - a) / np.where(rho > a, rho - a, 1.0), 0.0)
+    x = distance_coordinate(d, a, rho, distance_warp(r, t.bottom, t.top, True))
     rho_1 = h / (n_r - 1)
     r_1 = np.sqrt(rho_1 * rho_1 + t.bottom * t.bottom)
     a_1 = rho_1 * rho_1 / (r_1 + t.bottom)
-    d_1 = a_1 + x * (rho_1 - a_1)
+    d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(r_1, t.bottom, t.top, True))
     mu_1 = np.clip(-(rho_1 * rho_1 + d_1 * d_1) / (2.0 * r_1 * d_1), -1.0, 1.0)
     tau_1 = get_optical_depth(t, np.full_like(r, r_1), mu_1, d_1)
     k = (d / d_1)[:, None]
