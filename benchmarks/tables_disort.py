@@ -10,14 +10,15 @@ looking up and at the top looking down, view zenith 20, 55 and 78 deg x azimuth 
 the sun at each zenith angle of ``--suns``. Printed per radius, atmosphere and camera: the RMS and the largest
 relative difference of the tables' radiance from DISORT's over rays and wavelengths. The planet's curvature
 moves the answer by under 1e-3 at 1e8 m for these views (60 km over 1e8 m; the 78 deg views cross 290 km).
-``--ratio-limit`` sets parameterization.RATIO_LIMIT for this run (``inf``: Bruneton's mu_s mapping on the
-planet's own radii); the tables are then computed afresh, not read from the cache.
+``--ratio-limit`` sets parameterization.RATIO_LIMIT for this run (``inf``: Bruneton's mu and mu_s mappings on the
+planet's own radii); ``--no-view-warp`` leaves the view-zenith axis unwarped (``distance_warp`` 0) and the
+sun-zenith axis as it is; the tables are then computed afresh, not read from the cache.
 """
 import argparse
 
 import numpy as np
 
-from planetviz.tables import QUALITY, TableCache, parameterization, precompute
+from planetviz.tables import QUALITY, TableCache, lookup, parameterization, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.validation.disort import disort_radiance, ground_and_top_views, plane_parallel_atmosphere
 
@@ -28,10 +29,15 @@ def main():
     ap.add_argument("--quality", default="standard", choices=list(QUALITY))
     ap.add_argument("--suns", type=float, nargs="+", default=[30.0, 50.0, 70.0], help="sun zenith angles [deg]")
     ap.add_argument("--ratio-limit", type=float, default=None)
+    ap.add_argument("--no-view-warp", action="store_true")
     args = ap.parse_args()
     cache = TableCache()
     if args.ratio_limit is not None:
         parameterization.RATIO_LIMIT = args.ratio_limit
+        cache = None
+    if args.no_view_warp:
+        unwarped = lambda r, bottom, top, ground: np.zeros(np.broadcast(r, ground).shape)
+        parameterization.distance_warp = lookup.distance_warp = unwarped
         cache = None
     print("| radius [m] | atmosphere | camera | values | RMS | largest |")
     print("|---|---|---|---|---|---|")

@@ -112,8 +112,8 @@ def test_a_thick_atmosphere_over_a_black_ground_keeps_most_of_its_energy():
 def test_energy_matches_the_reference_solver(radius):
     # The upward flux of the conservative atmosphere from the tables against the Monte Carlo reference solver,
     # two independent computations. Bound: 4 standard errors of the reference plus 1% (the tables' accuracy).
-    # On the 1e8 m planet the tables' 440 nm flux is 0.977 against 1.001, at the bound's edge (0.950 with 32 mu
-    # texels in the multiple-scattering tables, which fails; docs/stability.md).
+    # The 1e8 m planet's view-zenith axis is spread as on a smaller planet (parameterization.distance_warp): on
+    # Bruneton's coordinate its 440 nm flux read 0.977 against 1.001, at the bound's edge (docs/stability.md).
     atm = conservative_atmosphere(radius)
     want, error = _reference_flux(atm)
     got = _table_flux(atm)
