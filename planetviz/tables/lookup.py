@@ -8,7 +8,8 @@ import numpy as np
 
 from .parameterization import (distance_coordinate, distance_from_coordinate, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
-                               ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu, texcoord_from_unit_range, transmittance_uv_from_r_mu, x_mu_s_from_mu_s)
+                               ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu, texcoord_from_unit_range,
+                               transmittance_uv_from_r_mu, x_mu_s_from_mu_s)
 from .sampling import texel_axis
 from .sampling import texture2d
 
