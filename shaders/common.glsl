@@ -8,6 +8,8 @@
 //                                      4g .. 4g + 3, one per component of a vec4
 //   rayleigh_anisotropy         float  A in P_R = (1 + A nu^2) / (4 pi (1 + A / 3)): 1 Rayleigh, 0.932 Penndorf
 //   mie_g1, mie_g2, mie_alpha   vec4[MAX_GROUPS]  the double Henyey-Greenstein parameters per wavelength
+//   mie_lobe_share              vec4[MAX_GROUPS]  the particles' share of the vertical scattering optical depth per
+//                                      wavelength (forward_factor)
 
 #define MAX_GROUPS 16
 const float PI = 3.14159265358979;
@@ -19,6 +21,7 @@ uniform float rayleigh_anisotropy;
 uniform vec4 mie_g1[MAX_GROUPS];
 uniform vec4 mie_g2[MAX_GROUPS];
 uniform vec4 mie_alpha[MAX_GROUPS];
+uniform vec4 mie_lobe_share[MAX_GROUPS];
 
 float safe_sqrt(float a) { return sqrt(max(a, 0.0)); }
 float clamp_cosine(float mu) { return clamp(mu, -1.0, 1.0); }
@@ -71,11 +74,13 @@ vec4 double_henyey_greenstein(float nu, vec4 g1, vec4 g2, vec4 alpha) {
     return alpha * henyey_greenstein(nu, g1) + (1.0 - alpha) * henyey_greenstein(nu, g2);
 }
 
-// The twice-scattered particle lobe F(nu) = DHG(nu; g1+^2, g2+^2, alpha) of group g, g+ = max(g, 0) (a backward
-// lobe counts as isotropic; planetviz/tables/multiple.py forward_factor).
+// The shape of the light the particles scatter the second time, F(nu) = s DHG(nu; g1+^2, g2+^2, alpha) +
+// (1 - s) / (4 pi) of group g, s = mie_lobe_share, g+ = max(g, 0) (a backward lobe counts as isotropic;
+// planetviz/tables/multiple.py forward_factor says why).
 vec4 forward_factor(float nu, int g) {
     vec4 g1 = max(mie_g1[g], 0.0), g2 = max(mie_g2[g], 0.0);
-    return double_henyey_greenstein(nu, g1 * g1, g2 * g2, mie_alpha[g]);
+    vec4 s = mie_lobe_share[g];
+    return s * double_henyey_greenstein(nu, g1 * g1, g2 * g2, mie_alpha[g]) + (1.0 - s) / (4.0 * PI);
 }
 
 // The in-scattered radiance of group g in four parts, each without the phase function that phased_sum applies

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..model.color import linear_srgb_matrix
 from ..model.optics.phase import PENNDORF_A
+from ..tables.validated import particle_scattering_share
 from .textures import MAX_GROUPS, group_count, pad_groups
 
 TONE_MAPPINGS = {"exponential": 0, "filmic": 1, "clamp": 2}
@@ -40,6 +41,7 @@ def atmosphere_uniforms(atm):
         "rayleigh_anisotropy": ("f", 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A),
         "mie_g1": ("4fv", per_group(atm.mie.g1)), "mie_g2": ("4fv", per_group(atm.mie.g2)),
         "mie_alpha": ("4fv", per_group(atm.mie.alpha)),
+        "mie_lobe_share": ("4fv", per_group(particle_scattering_share(atm))),
         "surface_albedo": ("4fv", per_group(atm.ground_albedo)),
         "rgb_weights": ("4fv", rgb_w.reshape(-1, 4)),
     }

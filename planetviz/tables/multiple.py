@@ -44,6 +44,7 @@ from .nodes import (LONG_RAY_NODE_FACTOR, integration_grid, is_optically_thick, 
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
+from .validated import particle_scattering_share
 from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
 
 #: In optically thick atmospheres (vertical optical depth above 1 at some wavelength) the scattering density is
@@ -142,21 +143,28 @@ class _Incident:
 
 
 def forward_factor(atm, nu):
-    """F(nu) = alpha HG(nu; g1+^2) + (1 - alpha) HG(nu; g2+^2), (..., W) [1/sr], g+ = max(g, 0): the angular
-    shape of light scattered twice by the particles' forward lobes (a Henyey-Greenstein lobe convolved with
-    itself is the lobe of g^2).
+    """F(nu) = s DHG(nu; g1+^2, g2+^2, alpha) + (1 - s) / (4 pi), (..., W) [1/sr], g+ = max(g, 0), s the
+    particles' share of the vertical scattering optical depth (``validated.particle_scattering_share``): the
+    angular shape of the light the particles scatter the second time, from incident light that is their own
+    forward lobe toward the sun in the share s (a Henyey-Greenstein lobe convolved with itself is the lobe of g^2)
+    and the molecules' broad light in the rest, which a lobe turns into light nearly as broad.
 
     The particles' share of the scattering density and of the multiple-scattering table is stored divided
-    by F(nu) and multiplied back on reading: with a forward lobe like Mars dust's (g = 0.88) the raw values
-    peak so sharply toward the sun that interpolating them between texels 20 deg apart mixes the peak into
-    other directions; divided by F they vary slowly. A backward lobe (g < 0) counts as isotropic: its light
-    turns back with each order (twice is forward, three times backward again), so no single lobe describes it,
-    and the lobe of g^2 multiplied onto it made the sky 15 deg from the sun twice too bright for g = -0.99
+    by F(nu) and multiplied back on reading: with a forward lobe like Mars dust's (g = 0.88, s = 0.98-1.0) the raw
+    values peak so sharply toward the sun that interpolating them between texels 20 deg apart mixes the peak into
+    other directions; divided by F they vary slowly. Under a lobe that holds a small share of the scattering
+    (an aerosol under Earth's air, s = 0.08-0.32) the light is broad, and divided by the lobe alone it would vary
+    as 1 / F: the sky seen from the ground 10-48 deg from the sun read 2-5% high against DISORT and 2-3% low away
+    from it (benchmarks/tables_disort.py). A backward lobe (g < 0) counts as isotropic: its light turns back with
+    each order (twice is forward, three times backward again), so no single lobe describes it, and the lobe of g^2
+    multiplied onto it made the sky 15 deg from the sun twice too bright for g = -0.99
     (benchmarks/edge_accuracy.py; tests/test_tables.py).
     """
     g1, g2, alpha = (np.maximum(np.asarray(x, dtype=float), 0.0) if k < 2 else np.asarray(x, dtype=float)
                      for k, x in enumerate((atm.mie.g1, atm.mie.g2, atm.mie.alpha)))
-    return double_henyey_greenstein(np.asarray(nu, dtype=float)[..., None], g1 * g1, g2 * g2, alpha)
+    share = particle_scattering_share(atm)
+    lobe = double_henyey_greenstein(np.asarray(nu, dtype=float)[..., None], g1 * g1, g2 * g2, alpha)
+    return share * lobe + (1.0 - share) / (4.0 * np.pi)
 
 
 def _view_vectors(mu, mu_s, nu):
