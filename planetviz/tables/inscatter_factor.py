@@ -21,7 +21,7 @@ the ray's length, the table follows the limb's halo as finely as the optical dep
 the Earth's atmosphere a texel is 0.2 km of tangent altitude (34 texels per 8 km scale height).
 
 **Phases.** The phase functions of the inscatter's four parts (the molecules', the particles' double
-Henyey-Greenstein phase, 1 for the molecules' orders above the first, the twice-scattered lobe ``forward_factor``)
+Henyey-Greenstein phase, 1 for the molecules' orders above the first, ``forward_factor`` for the particles')
 as functions of u = s / sqrt(2) toward the sun (nu >= 0) and 1 - c / sqrt(2) away from it, s = sin(theta / 2) =
 sqrt((1 - nu) / 2), c = cos(theta / 2) = sqrt((1 + nu) / 2), theta the view-sun angle: a lobe of asymmetry |g| is
 (1 - |g|) / (2 sqrt(|g|)) wide in s (forward) or c (backward), 19 texels for |g| = 0.95, where linear

@@ -286,7 +286,7 @@ def lobe_irradiance_factors(atm, dirs, cos_weights, mu_s, fine=32):
     ``cos_weights`` (K,) (mirrored azimuths included), for suns at mu_s (n_mu_s,).
 
     L_M is a smooth function times the particles' lobe toward the sun: the phase function P_M(nu) for order 1
-    (single scattering without phase times P_M), the twice-scattered lobe F(nu) for the orders above
+    (single scattering without phase times P_M), the shape F(nu) of the particles' orders above
     (``forward_factor``). f = int_{w_z > 0} lobe(w . s) w_z dw / sum_k c_k lobe(w_k . s), the integral on a
     fine grid around the sun (``sun_centred_quadrature``): exact for a constant smooth part, as the Mie
     kernels of J are renormalised. Under Mars dust's g = 0.91 lobe the 10x10 grid alone read the sky's
