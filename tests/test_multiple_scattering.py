@@ -17,17 +17,20 @@ B, T = EARTH.bottom_radius_m, EARTH.top_radius_m
 
 @pytest.mark.parametrize("name", ["mars", "exo-co2-thick"])
 def test_forward_factor_is_a_normalised_lobe_with_the_squared_asymmetry(name):
-    # F(nu) must integrate to 1 over the sphere and have mean cosine alpha g1+^2 + (1 - alpha) g2+^2, g+ =
-    # max(g, 0) (the first Legendre moment of a Henyey-Greenstein lobe convolved with itself; a backward lobe
-    # counts as isotropic: the thick planet's g2 = -0.3): checked by quadrature.
+    # F(nu) = s DHG(nu; g1+^2, g2+^2, alpha) + (1 - s) / (4 pi) must integrate to 1 over the sphere and have mean
+    # cosine s (alpha g1+^2 + (1 - alpha) g2+^2), g+ = max(g, 0) (the first Legendre moment of a Henyey-Greenstein
+    # lobe convolved with itself; the isotropic part has none; a backward lobe counts as isotropic: the thick
+    # planet's g2 = -0.3), s the particles' share of the vertical scattering optical depth: checked by quadrature.
     from planetviz.tables.multiple import forward_factor
+    from planetviz.tables.validated import particle_scattering_share
     atm = load_atmosphere(name)
     nu = np.linspace(-1.0, 1.0, 400001)
     f = forward_factor(atm, nu)
     assert np.allclose(2 * np.pi * np.trapezoid(f, nu, axis=0), 1.0, rtol=1e-6)
     g1, g2 = (np.maximum(np.asarray(x), 0.0) for x in (atm.mie.g1, atm.mie.g2))
-    a = np.asarray(atm.mie.alpha)
-    assert np.allclose(2 * np.pi * np.trapezoid(f * nu[:, None], nu, axis=0), a * g1 ** 2 + (1 - a) * g2 ** 2,
+    a, s = np.asarray(atm.mie.alpha), particle_scattering_share(atm)
+    assert np.all((s > 0.0) & (s < 1.0))
+    assert np.allclose(2 * np.pi * np.trapezoid(f * nu[:, None], nu, axis=0), s * (a * g1 ** 2 + (1 - a) * g2 ** 2),
                        atol=1e-5)
 
 
