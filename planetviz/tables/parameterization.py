@@ -293,15 +293,11 @@ def distance_warp(r, bottom, top, intersects_ground):
         return np.zeros(np.broadcast(r, intersects_ground).shape)
     a = np.maximum(r - bottom, 0.0)
     rho, rho_small = safe_sqrt(r * r - bottom * bottom), np.sqrt(a * (2.0 * small + a))
-    if not np.all(intersects_ground):
-        h, h_small = np.sqrt(top * top - bottom * bottom), np.sqrt(small_top * small_top - small * small)
-        sky = np.maximum(1.0 / (rho_small + h_small) - 1.0 / (rho + h), 0.0)
-    if not np.any(intersects_ground):
-        return sky
-    with np.errstate(divide="ignore"):
-        ground = np.where(rho_small > 0.0, np.maximum(1.0 / rho_small - 1.0 / np.where(rho > 0.0, rho, 1.0), 0.0),
-                          0.0)
-    return ground if np.all(intersects_ground) else np.where(intersects_ground, ground, sky)
+    h, h_small = np.sqrt(top * top - bottom * bottom), np.sqrt(small_top * small_top - small * small)
+    ground = np.asarray(intersects_ground)
+    d_max, d_max_small = np.where(ground, rho, rho + h), np.where(ground, rho_small, rho_small + h_small)
+    with np.errstate(divide="ignore", invalid="ignore"):         # the ground half at the ground: no rays
+        return np.where(d_max_small > 0.0, np.maximum(1.0 / d_max_small - 1.0 / d_max, 0.0), 0.0)
 
 
 def _warped(d, k):
