@@ -2,6 +2,7 @@
 
     python benchmarks/reference_precision.py [--split tuning|held-out] [--atmospheres 8] [--paths 2048]
                                              [--presets earth mars exo-co2-thick] [--seeds 1 2]
+                                             [--sampler sobol|random]
 
 For each atmosphere (planetviz.validation.random_atmosphere over the split's seeds, then the presets), one
 ray per camera class and light class (planetviz.validation.rays), solved twice with independent seeds.
@@ -17,6 +18,7 @@ import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference import solve
+from planetviz.reference.montecarlo import SAMPLERS
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, random_atmosphere, rays
 
 
@@ -35,6 +37,7 @@ def main():
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--paths", type=int, default=2048)
     ap.add_argument("--seeds", type=int, nargs=2, default=[1, 2])
+    ap.add_argument("--sampler", default="sobol", choices=list(SAMPLERS))
     ap.add_argument("--verbose", action="store_true")
     args = ap.parse_args()
     rows = {light: {"rel": [], "z": [], "seconds": 0.0, "n": 0} for light in LIGHT}
@@ -43,7 +46,8 @@ def main():
             batch = [rays(atm, seed, c, light) for c in CAMERAS]
             cam, view, sun = (np.concatenate(x) for x in zip(*batch))
             t0 = time.perf_counter()
-            a, b = (solve(atm, cam, view, sun, samples=args.paths, seed=s) for s in args.seeds)
+            a, b = (solve(atm, cam, view, sun, samples=args.paths, seed=s, sampler=args.sampler)
+                    for s in args.seeds)
             rows[light]["seconds"] += time.perf_counter() - t0
             rows[light]["n"] += len(cam) * atm.n_wavelengths
             ok = (a.radiance > 1e-12) & (b.radiance > 1e-12)
@@ -57,7 +61,7 @@ def main():
                       f"max |z| {np.abs(z).max() if z.size else np.nan:.2f}"
                       + (f" ({CAMERAS[np.nonzero(ok)[0][worst]]})" if worst is not None else ""), flush=True)
     print(f"split {args.split}, {args.atmospheres} random atmospheres + {args.presets}, {args.paths} paths per ray "
-          f"and wavelength, seeds {args.seeds}")
+          f"and wavelength, seeds {args.seeds}, sampler {args.sampler}")
     print(f"{'light':>14} {'values':>7} {'median rel. s.e.':>17} {'p90':>7} {'RMS z':>6} {'max |z|':>8} "
           f"{'s per ray-wavelength':>21}")
     for light, r in rows.items():

@@ -70,9 +70,10 @@ def test_error_bars_are_honest_on_random_atmospheres():
     # own) and every camera and light class (ground to space, daylight, twilight to 6 deg and deep twilight
     # to 18 deg below the horizon where the ray looks, the night side and the terminator from space), a draft
     # run against an independent run of 2x the paths. z = difference / combined standard errors: for honest
-    # error bars its RMS over ~450 values is 1 +- 0.035 (sampling), so 0.8-1.2 leaves room for
-    # non-Gaussian tails, and |z| > 5 happens by chance once in ~1e6 values. A heavy tail that the estimator
-    # misses shows as a run reading low with a small error bar: a large |z|.
+    # error bars its RMS over ~450 values is 1 +- 0.035 (sampling; each standard error comes from 32 replicas,
+    # so z is about Student's t with 60 degrees of freedom, RMS 1.02), so 0.8-1.2 leaves room for
+    # non-Gaussian tails, and |z| > 5 happens by chance about once in 2e5 values. A heavy tail that the
+    # estimator misses shows as a run reading low with a small error bar: a large |z|.
     from planetviz.reference.montecarlo import QUALITY_SAMPLES
     from planetviz.validation import CAMERAS, LIGHT, random_atmosphere, rays
     z_all = []

@@ -35,9 +35,16 @@ Method. L = L_1 + L_{>=2}:
   - Absorption enters as a weight (the single-scattering albedo); Russian roulette after the third event,
     against the path's weight after its first, survival at least ROULETTE_MIN.
 
+  - **Randomised quasi-Monte Carlo**: every draw of a path is one coordinate of a point (:class:`_Uniforms`),
+    the draws of its first SOBOL_EVENTS events from scrambled Sobol' sets, so that the paths of a ray cover
+    the first vertex's position, the new direction and the next event's collision evenly rather than at
+    random (by day order 2 is most of the variance); REPLICAS independently scrambled sets per ray and
+    wavelength, whose means are independent unbiased estimates.
+
 Contributions of order ``max_order`` and below only; ``single="paths"`` estimates L_1 with the same paths
-too (the check of the path tracer against the quadrature). The standard error is that of the mean of
-independent paths; ``samples`` paths per ray and wavelength.
+too (the check of the path tracer against the quadrature). ``samples`` paths per ray and wavelength; the
+standard error is that of the mean of the REPLICAS replicas' means (of independent paths with
+``sampler="random"``).
 """
 from __future__ import annotations
 
@@ -55,7 +62,7 @@ from .shadow import shadow_interval
 from .single import single_scattering
 
 #: Version of the estimator; stored with every reference result under benchmarks/data/.
-SOLVER_VERSION = "2"
+SOLVER_VERSION = "3"
 #: Paths per ray and wavelength at each quality of ``planetviz radiance --method reference`` and
 #: ``planetviz sky`` (median relative standard errors in docs/benchmarks.md).
 QUALITY_SAMPLES = {"draft": 512, "standard": 4096, "high": 32768}
@@ -68,6 +75,16 @@ GUIDE_MIN_G = 0.3
 #: after the first event), at least ROULETTE_MIN (so a survivor's weight grows at most 1 / ROULETTE_MIN-fold).
 ROULETTE_ORDER = 3
 ROULETTE_MIN = 0.2
+#: The uniform draws of a path's event, each its own coordinate (:class:`_Uniforms`): the next event's
+#: collision, whether the path collides in the air, where, whether the new direction is guided, its
+#: cosine, its azimuth, the phase function's component (or the guide's part), the Mie lobe, Russian roulette.
+(_NEXT_EVENT, _COLLIDE, _FLIGHT, _GUIDED, _COS, _PHI, _KIND, _LOBE, _ROULETTE) = range(9)
+DRAWS = 9
+#: Samplers of the paths' draws; the events whose draws come from randomised Sobol' sets under "sobol", and
+#: the independent replicas (point sets) per ray and wavelength whose spread gives the standard error.
+SAMPLERS = ("sobol", "random")
+SOBOL_EVENTS = 3
+REPLICAS = 32
 #: Strata of the next event's lit part, and the share of their mean T_sun every stratum keeps.
 STRATA = 16
 DEFENSIVE = 0.1
@@ -84,12 +101,14 @@ class ReferenceResult:
 
 
 def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, max_order: int | None = None,
-          single: str = "quadrature", workers: int | None = None, batch_paths: int = 65536) -> ReferenceResult:
+          single: str = "quadrature", workers: int | None = None, batch_paths: int = 65536,
+          sampler: str = "sobol") -> ReferenceResult:
     """Reference radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
 
     ``samples`` paths per ray and wavelength; ``seed`` fixes the result whatever ``workers`` is (default:
     every core for runs of more than 2e4 paths, else 1). ``single``: ``"quadrature"`` (L_1 exact) or
-    ``"paths"`` (L_1 by the paths too, for checks).
+    ``"paths"`` (L_1 by the paths too, for checks). ``sampler``: ``"sobol"`` (randomised quasi-Monte Carlo for
+    the paths' first SOBOL_EVENTS events, :class:`_Uniforms`) or ``"random"`` (independent paths).
 
     Example
     -------
@@ -103,6 +122,8 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
     """
     if single not in ("quadrature", "paths"):
         raise ValueError(f"single: must be 'quadrature' or 'paths', got {single!r}")
+    if sampler not in SAMPLERS:
+        raise ValueError(f"sampler: must be one of {SAMPLERS}, got {sampler!r}")
     camera = np.atleast_2d(np.asarray(camera, dtype=float))
     view = np.atleast_2d(np.asarray(view_dir, dtype=float))
     view = view / np.linalg.norm(view, axis=-1, keepdims=True)
@@ -125,7 +146,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
                  for w in range(atm.n_wavelengths) for lo in range(0, n, per_block)
                  for c in range(-(-samples // chunk))]
         args = [(atm, w, camera[lo:hi], view[lo:hi], sun[lo:hi], paths, (seed, w, lo) + ((c,) if c else ()),
-                 first, limit) for w, lo, hi, c, paths in tasks]
+                 first, limit, sampler) for w, lo, hi, c, paths in tasks]
         if workers is None:
             workers = (os.cpu_count() or 1) if n * samples * atm.n_wavelengths > 20_000 else 1
         if workers > 1 and len(tasks) > 1:
@@ -133,28 +154,74 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
                 results = list(ex.map(_task, args))
         else:
             results = [_task(a) for a in args]
-        # Chunks combined by Chan et al.'s pairwise update of (count, mean, sum of squared deviations).
-        count, m_ms, m2 = np.zeros((n, atm.n_wavelengths)), np.zeros((n, atm.n_wavelengths)), np.zeros((n, atm.n_wavelengths))
-        for (w, lo, hi, _, paths), (m, sq) in zip(tasks, results):
-            total = count[lo:hi, w] + paths
-            delta = m - m_ms[lo:hi, w]
-            m2[lo:hi, w] += sq + delta * delta * count[lo:hi, w] * paths / total
-            m_ms[lo:hi, w] += delta * paths / total
-            count[lo:hi, w] = total
-        mean += m_ms
-        err = np.sqrt(m2 / (count - 1) / count) if samples > 1 else np.full_like(mean, np.inf)
+        # Chunks combined: the mean weighted by their paths, the squared standard errors by its square.
+        count, m_ms, var = (np.zeros((n, atm.n_wavelengths)) for _ in range(3))
+        for (w, lo, hi, _, paths), (m, v) in zip(tasks, results):
+            count[lo:hi, w] += paths
+            m_ms[lo:hi, w] += paths * m
+            var[lo:hi, w] += paths * paths * v
+        mean += m_ms / count
+        err = np.sqrt(var) / count if samples > 1 else np.full_like(mean, np.inf)
     transmittance, _ = view_transmittance(atm, camera, view)
     return ReferenceResult(mean, err, transmittance, samples)
 
 
 def _task(args):
-    """(mean, sum of squared deviations from it) per ray, of one block of rays and paths at one wavelength."""
-    atm, w, camera, view, sun, samples, key, first, limit = args
+    """(mean, squared standard error of the mean) per ray, of one block of rays and paths at one wavelength."""
+    atm, w, camera, view, sun, samples, key, first, limit, sampler = args
     rng = np.random.default_rng(np.random.SeedSequence(list(key)))
-    rep = np.repeat(np.arange(len(camera)), samples)
-    contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], rng, first, limit).reshape(len(camera), samples)
-    mean = contrib.mean(axis=1)
-    return mean, ((contrib - mean[:, None]) ** 2).sum(axis=1)
+    n = len(camera)
+    rep = np.repeat(np.arange(n), samples)
+    uniforms = _Uniforms.make(sampler, n, samples, rng)
+    contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], uniforms, first, limit).reshape(n, samples)
+    return uniforms.mean_and_variance(contrib)
+
+
+class _Uniforms:
+    """The uniform numbers of the paths of one task, one coordinate per draw: coordinate k of a path is its
+    draw k % DRAWS (:data:`DRAWS`) at event k // DRAWS.
+
+    ``"random"``: independent pseudo-random numbers; the standard error is that of the mean of independent
+    paths. ``"sobol"``: the first SOBOL_EVENTS events' coordinates from REPLICAS randomised (scrambled) Sobol'
+    point sets per ray, each of samples / REPLICAS paths (pseudo-random past them): every replica's mean is an
+    unbiased estimate, and the standard error is that of the mean of the REPLICAS independent replicas."""
+
+    def __init__(self, points, rows, rng, replicas):
+        self.points, self.rows, self.rng, self.replicas = points, rows, rng, replicas
+
+    @classmethod
+    def make(cls, sampler, n_rays, samples, rng):
+        if sampler == "random" or samples % REPLICAS or samples < 2 * REPLICAS:
+            return cls(None, None, rng, 0)
+        from scipy.stats import qmc
+        per = samples // REPLICAS
+        dims = SOBOL_EVENTS * DRAWS
+        points = np.concatenate([qmc.Sobol(dims, scramble=True, seed=rng).random(per) if per & (per - 1) == 0
+                                 else _unbalanced_sobol(qmc, dims, per, rng) for _ in range(REPLICAS)])
+        return cls(points, np.tile(np.arange(samples), n_rays), rng, REPLICAS)
+
+    def event(self, i, paths):
+        """(DRAWS, len(paths)) the draws of event i of the paths ``paths`` (indices into the task's paths)."""
+        if self.points is not None and i < SOBOL_EVENTS:
+            return self.points[self.rows[paths], DRAWS * i:DRAWS * (i + 1)].T
+        return self.rng.random((DRAWS, len(paths)))
+
+    def mean_and_variance(self, contrib):
+        """(mean, squared standard error of the mean) per row of contrib (rays x samples)."""
+        mean = contrib.mean(axis=1)
+        if not self.replicas:
+            n = contrib.shape[1]
+            return mean, (contrib.var(axis=1, ddof=1) / n if n > 1 else np.zeros_like(mean))
+        parts = contrib.reshape(len(contrib), self.replicas, -1).mean(axis=2)
+        return mean, parts.var(axis=1, ddof=1) / self.replicas
+
+
+def _unbalanced_sobol(qmc, dims, n, rng):
+    """n points of a scrambled Sobol' set whose size is not a power of two (each point still uniform)."""
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return qmc.Sobol(dims, scramble=True, seed=rng).random(n)
 
 
 # ------------------------------------------------------------------ directions
@@ -172,22 +239,23 @@ def _onb_rotate(d, cos_theta, phi):
     return out / np.linalg.norm(out, axis=1, keepdims=True)
 
 
-def _sample_mie(atm, w, u, rng):
-    """cos(theta) drawn from the Mie double Henyey-Greenstein phase function at wavelength index w."""
-    lobe1 = rng.random(len(u)) < atm.mie.alpha[w]
+def _sample_mie(atm, w, u, u_lobe):
+    """cos(theta) drawn from the Mie double Henyey-Greenstein phase function at wavelength index w (u for the
+    angle, u_lobe for the lobe)."""
+    lobe1 = u_lobe < atm.mie.alpha[w]
     return sample_henyey_greenstein(u, np.where(lobe1, atm.mie.g1[w], atm.mie.g2[w]))
 
 
-def _sample_phase(atm, w, b_r, b_m, rng):
-    """cos(theta) between the old and new tracing directions, drawn from the local phase mixture."""
+def _sample_phase(atm, w, b_r, b_m, u):
+    """cos(theta) between the old and new tracing directions, drawn from the local phase mixture (u: the draws
+    of :func:`_new_direction`)."""
     m = len(b_r)
-    u = rng.random(m)
-    use_mie = rng.random(m) * (b_r + b_m) < b_m
+    use_mie = u[_KIND] * (b_r + b_m) < b_m
     cos = np.empty(m)
     a = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
-    cos[~use_mie] = sample_rayleigh_like(u[~use_mie], a)
+    cos[~use_mie] = sample_rayleigh_like(u[_COS][~use_mie], a)
     if np.any(use_mie):
-        cos[use_mie] = _sample_mie(atm, w, u[use_mie], rng)
+        cos[use_mie] = _sample_mie(atm, w, u[_COS][use_mie], u[_LOBE][use_mie])
     return cos
 
 
@@ -199,15 +267,15 @@ def _has_lobe(atm, w) -> bool:
     return any(g > GUIDE_MIN_G and share > 0.0 for g, share in lobes)
 
 
-def _guide_sample(atm, w, sun, rng):
-    """Directions drawn from the guide pdf (:func:`_guide_pdf`)."""
+def _guide_sample(atm, w, sun, u):
+    """Directions drawn from the guide pdf (:func:`_guide_pdf`; u: the draws of :func:`_new_direction`)."""
     m = len(sun)
-    wide = rng.random(m) < (0.5 if _has_lobe(atm, w) else 1.0)
+    wide = u[_KIND] < (0.5 if _has_lobe(atm, w) else 1.0)
     cos = np.empty(m)
-    cos[wide] = sample_henyey_greenstein(rng.random(int(wide.sum())), GUIDE_SUN_G)
+    cos[wide] = sample_henyey_greenstein(u[_COS][wide], GUIDE_SUN_G)
     if np.any(~wide):
-        cos[~wide] = _sample_mie(atm, w, rng.random(int((~wide).sum())), rng)
-    return _onb_rotate(sun, cos, 2.0 * np.pi * rng.random(m))
+        cos[~wide] = _sample_mie(atm, w, u[_COS][~wide], u[_LOBE][~wide])
+    return _onb_rotate(sun, cos, 2.0 * np.pi * u[_PHI])
 
 
 def _guide_pdf(atm, w, sun, d):
@@ -221,31 +289,31 @@ def _guide_pdf(atm, w, sun, d):
     return 0.5 * wide + 0.5 * atm.mie.phase_function(mu)[:, w]
 
 
-def _new_direction(atm, w, d, sun, b_r, b_m, rng):
-    """(new direction, phase / pdf weight) at a scattering vertex (b_r, b_m > 0 the local coefficients)."""
+def _new_direction(atm, w, d, sun, b_r, b_m, u):
+    """(new direction, phase / pdf weight) at a scattering vertex (b_r, b_m > 0 the local coefficients; u
+    (DRAWS, m) the paths' draws at this event)."""
     m = len(d)
-    guided = rng.random(m) < EPSILON
+    guided = u[_GUIDED] < EPSILON
     cos = np.empty(m)
     free = ~guided
-    cos[free] = _sample_phase(atm, w, b_r[free], b_m[free], rng)
+    cos[free] = _sample_phase(atm, w, b_r[free], b_m[free], u[:, free])
     out = np.empty_like(d)
-    out[free] = _onb_rotate(d[free], cos[free], 2.0 * np.pi * rng.random(int(free.sum())))
+    out[free] = _onb_rotate(d[free], cos[free], 2.0 * np.pi * u[_PHI][free])
     if np.any(guided):
-        out[guided] = _guide_sample(atm, w, sun[guided], rng)
+        out[guided] = _guide_sample(atm, w, sun[guided], u[:, guided])
     mu = np.clip(np.einsum("ij,ij->i", d, out), -1.0, 1.0)
     phase = (b_r * atm.rayleigh.phase_function(mu) + b_m * atm.mie.phase_function(mu)[:, w]) / (b_r + b_m)
     return out, phase / ((1.0 - EPSILON) * phase + EPSILON * _guide_pdf(atm, w, sun, out))
 
 
-def _ground_direction(atm, w, normal, sun, rng):
-    """(new direction, (cos / pi) / pdf weight) leaving a Lambertian ground."""
-    m = len(normal)
-    guided = rng.random(m) < EPSILON
+def _ground_direction(atm, w, normal, sun, u):
+    """(new direction, (cos / pi) / pdf weight) leaving a Lambertian ground (u (DRAWS, m): the paths' draws)."""
+    guided = u[_GUIDED] < EPSILON
     out = np.empty_like(normal)
     free = ~guided
-    out[free] = _onb_rotate(normal[free], np.sqrt(rng.random(int(free.sum()))), 2.0 * np.pi * rng.random(int(free.sum())))
+    out[free] = _onb_rotate(normal[free], np.sqrt(u[_COS][free]), 2.0 * np.pi * u[_PHI][free])
     if np.any(guided):
-        out[guided] = _guide_sample(atm, w, sun[guided], rng)
+        out[guided] = _guide_sample(atm, w, sun[guided], u[:, guided])
     cos = np.maximum(np.einsum("ij,ij->i", normal, out), 0.0)
     return out, (cos / np.pi) / ((1.0 - EPSILON) * cos / np.pi + EPSILON * _guide_pdf(atm, w, sun, out))
 
@@ -374,14 +442,15 @@ def _strata_weights(atm, w, p, d, sun, lit, ok):
     return weights
 
 
-def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
+def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, u):
     """Light that the next vertex along p + t d (t in [0, length]) sends straight from the sun toward p.
 
     1. The lit part of the segment and its collision probability m_lit (:class:`_LitMass`).
     2. One collision drawn from it gives beta_scat exp(-tau) P(d . s) T_sun over its pdf. The lit part is cut
-       into STRATA strata of equal collision probability, one chosen by :func:`_strata_weights` (in proportion
-       to T_sun where the segment meets the shadow, else uniformly), the collision drawn from the
-       optical-depth table within it.
+       into STRATA strata of equal collision probability weighted by :func:`_strata_weights` (in proportion
+       to T_sun where the segment meets the shadow, else uniformly); the one draw u picks the stratum and the
+       collision mass within it by inverting that piecewise-constant distribution, and the collision is found
+       from the optical-depth table.
     3. The directly lit ground at the end adds T(segment) (a / pi) max(0, n . s) T_sun exactly.
     """
     out = np.zeros(len(p))
@@ -392,9 +461,13 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
         m_lit = lit.m_lit[ok]
         weights = _strata_weights(atm, w, p, d, sun, lit, ok)
         cdf = np.cumsum(weights, axis=1)
-        pick = np.minimum((rng.random(n_ok)[:, None] * cdf[:, -1:] >= cdf).sum(axis=1), STRATA - 1)
-        share = STRATA * weights[np.arange(n_ok), pick] / cdf[:, -1]          # pdf over the plain lit pdf
-        t = lit.position(ok, ((pick + rng.random(n_ok)) / STRATA * m_lit)[:, None])[:, 0]
+        target = u[ok] * cdf[:, -1]
+        pick = np.minimum((target[:, None] >= cdf).sum(axis=1), STRATA - 1)
+        rows = np.arange(n_ok)
+        below = np.where(pick > 0, cdf[rows, pick - 1], 0.0)
+        within = np.clip((target - below) / weights[rows, pick], 0.0, 1.0)
+        share = STRATA * weights[rows, pick] / cdf[:, -1]                     # pdf over the plain lit pdf
+        t = lit.position(ok, ((pick + within) / STRATA * m_lit)[:, None])[:, 0]
         x, b_r, b_m, tau_exact, sigma, tau_t = collision_point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
         nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
         phase = b_r * atm.rayleigh.phase_function(nu) + b_m * atm.mie.phase_function(nu)[:, w]
@@ -418,13 +491,15 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, rng):
     return out
 
 
-def _trace(atm, w, origin, direction, sun, rng, first, limit):
+def _trace(atm, w, origin, direction, sun, uniforms, first, limit):
     """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w.
 
     Each step, for the live paths: the segment from the last vertex along its direction to the ground or to
     space and its optical depth; the light of the next vertex straight from the sun (:func:`_next_event`);
     the next vertex itself, a collision in the air (:func:`_collide`) or the ground (:func:`_bounce`), with
-    its new direction; Russian roulette past ROULETTE_ORDER events (:func:`_roulette`).
+    its new direction; Russian roulette past ROULETTE_ORDER events (:func:`_roulette`). Every live path has as
+    many events as steps taken, so step i's draws are the paths' coordinates DRAWS i to DRAWS (i + 1) - 1
+    (``uniforms``, :class:`_Uniforms`).
     """
     count = len(origin)
     radiance = np.zeros(count)
@@ -432,7 +507,10 @@ def _trace(atm, w, origin, direction, sun, rng, first, limit):
     paths = _Paths(pos=origin + start[:, None] * direction, d=direction.copy(), weight=np.ones(count),
                    weight_first=np.ones(count), order=np.zeros(count, dtype=np.int64))
     idx = np.nonzero(end > start)[0]
+    step = 0
     while idx.size:
+        u = uniforms.event(step, idx)
+        step += 1
         p, dd, s = paths.pos[idx], paths.d[idx], sun[idx]
         t_ground = distance_to_ground(p, dd, atm.bottom_radius_m)
         t_top = distance_to_top_exit(p, dd, atm.top_radius_m)
@@ -444,24 +522,24 @@ def _trace(atm, w, origin, direction, sun, rng, first, limit):
         if np.any(nee):
             k = np.nonzero(nee)[0]
             radiance[idx[k]] += paths.weight[idx[k]] * _next_event(atm, w, p[k], dd[k], s[k], length[k], ground[k],
-                                                                   t_nodes[k], tau[k], rng)
+                                                                   t_nodes[k], tau[k], u[_NEXT_EVENT, k])
         alive = paths.order[idx] + 2 <= limit
         absorbed = -np.expm1(-tau[:, -1])
         p_collide = np.where(absorbed > 0.0, np.where(ground, np.maximum(absorbed, 0.5), 1.0), 0.0)
-        collide = alive & (rng.random(idx.size) < p_collide)
+        collide = alive & (u[_COLLIDE] < p_collide)
         if np.any(collide):
             ci = np.nonzero(collide)[0]
             _collide(atm, w, paths, idx[ci], p[ci], dd[ci], sun, t_nodes[ci], tau[ci], absorbed[ci],
-                     p_collide[ci], rng)
+                     p_collide[ci], u[:, ci])
         hit = alive & ~collide & ground
         alive &= collide | hit
         if np.any(hit):
             gi = np.nonzero(hit)[0]
             _bounce(atm, w, paths, idx[gi], p[gi] + t_ground[gi, None] * dd[gi], sun,
-                    np.exp(-tau[gi, -1]) / (1.0 - p_collide[gi]), rng)
+                    np.exp(-tau[gi, -1]) / (1.0 - p_collide[gi]), u[:, gi])
         first_event = alive & (paths.order[idx] == 1)
         paths.weight_first[idx[first_event]] = paths.weight[idx[first_event]]
-        idx = idx[_roulette(paths, idx, alive, rng)]
+        idx = idx[_roulette(paths, idx, alive, u[_ROULETTE])]
     return radiance
 
 
@@ -477,11 +555,11 @@ class _Paths:
     order: np.ndarray
 
 
-def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, rng):
+def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, u):
     """A collision along the segments p + t d of the paths ``g`` (forced: probability ``p_collide``), drawn
     from the tabulated optical depth; the weight takes beta_scat exp(-tau) over the density sampled (exact tau
     to the point, :func:`collision_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
-    t = _invert(t_nodes, tau, -np.log1p(-rng.random(len(g)) * absorbed))
+    t = _invert(t_nodes, tau, -np.log1p(-u[_FLIGHT] * absorbed))
     x, b_r, b_m, tau_exact, sigma, tau_t = collision_point(atm, w, p, d, t_nodes, tau, t)
     ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma, 1.0), 0.0)
     paths.pos[g] = x
@@ -491,21 +569,21 @@ def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, rng
     paths.weight[g[~scat]] = 0.0
     if np.any(scat):
         gs = g[scat]
-        paths.d[gs], ratio = _new_direction(atm, w, paths.d[gs], sun[gs], b_r[scat], b_m[scat], rng)
+        paths.d[gs], ratio = _new_direction(atm, w, paths.d[gs], sun[gs], b_r[scat], b_m[scat], u[:, scat])
         paths.weight[gs] *= ratio
 
 
-def _bounce(atm, w, paths, g, x, sun, weight, rng):
+def _bounce(atm, w, paths, g, x, sun, weight, u):
     """The paths ``g`` reach the ground at x (the segment's transmittance over the probability of no collision,
     ``weight``): reflected by the Lambertian ground of albedo a, a new direction from :func:`_ground_direction`."""
     normal = x / np.linalg.norm(x, axis=1, keepdims=True)
     paths.pos[g] = normal * atm.bottom_radius_m
-    paths.d[g], ratio = _ground_direction(atm, w, normal, sun[g], rng)
+    paths.d[g], ratio = _ground_direction(atm, w, normal, sun[g], u)
     paths.weight[g] *= weight * float(atm.ground_albedo[w]) * ratio
     paths.order[g] += 1
 
 
-def _roulette(paths, idx, alive, rng):
+def _roulette(paths, idx, alive, u):
     """Which of the paths ``idx`` go on (a mask): those ``alive`` with a weight, past ROULETTE_ORDER events each
     surviving with probability weight / weight after the first event (at least ROULETTE_MIN), its weight
     divided by that probability."""
@@ -514,7 +592,7 @@ def _roulette(paths, idx, alive, rng):
     if np.any(rr):
         g = idx[rr]
         q = np.clip(paths.weight[g] / paths.weight_first[g], ROULETTE_MIN, 1.0)
-        survive = rng.random(q.size) < q
+        survive = u[rr] < q
         paths.weight[g] /= q
         alive[np.nonzero(rr)[0][~survive]] = False
     return alive
