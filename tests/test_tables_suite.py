@@ -21,13 +21,13 @@ def test_first_order_meets_the_target_in_every_class(split, light):
     # The standard tables' first order (single scattering and the directly lit ground) against the reference
     # quadrature (reference/single.py, relative error below 1e-4: no noise), on benchmarks/tables_suite.py's
     # rays of the light class and the split's first 8 random atmospheres, the difference relative to the whole
-    # radiance (the stored 4096-path reference, all orders; its noise, 1-5% by day, only scales the figure).
+    # radiance (the stored 4096-path reference, all orders; its noise, 0.5-3% by day, only scales the figure).
     # Bound: the light class's target for all orders itself, per camera class, which the first order must meet
     # on its own. Where the tables were read for the first order of the twilight rays, the classes read 3-12% RMS
     # (twilight) and up to 184 times the whole radiance (deep twilight, limb rays in the planet's shadow); by day,
     # tables that held S instead of S / (1 - T) read the class within 100 m of the top 19.6% (tuning) and 21.4%
     # (held-out) RMS off, relative to the first order alone. The orders above the first are not checked here
-    # (the reference's noise, 1-5% at 4096 paths by day, is above the target: docs/benchmarks.md).
+    # (the reference's noise, 0.5-3% per class at 4096 paths by day, is above a third of the target).
     errors = {camera: [] for camera in CAMERAS}
     for seed in list(SPLITS[split])[:8]:
         atm = random_atmosphere(seed)
