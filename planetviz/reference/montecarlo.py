@@ -62,7 +62,7 @@ from .shadow import shadow_interval
 from .single import single_scattering
 
 #: Version of the estimator; stored with every reference result under benchmarks/data/.
-SOLVER_VERSION = "3"
+SOLVER_VERSION = "4"
 #: Paths per ray and wavelength at each quality of ``planetviz radiance --method reference`` and
 #: ``planetviz sky`` (median relative standard errors in docs/benchmarks.md).
 QUALITY_SAMPLES = {"draft": 512, "standard": 4096, "high": 32768}
@@ -85,6 +85,7 @@ DRAWS = 9
 SAMPLERS = ("sobol", "random")
 SOBOL_EVENTS = 3
 REPLICAS = 32
+SOBOL_BITS = 30
 #: Strata of the next event's lit part, and the share of their mean T_sun every stratum keeps.
 STRATA = 16
 DEFENSIVE = 0.1
@@ -182,29 +183,38 @@ class _Uniforms:
     draw k % DRAWS (:data:`DRAWS`) at event k // DRAWS.
 
     ``"random"``: independent pseudo-random numbers; the standard error is that of the mean of independent
-    paths. ``"sobol"``: the first SOBOL_EVENTS events' coordinates from REPLICAS randomised (scrambled) Sobol'
-    point sets per ray, each of samples / REPLICAS paths (pseudo-random past them): every replica's mean is an
-    unbiased estimate, and the standard error is that of the mean of the REPLICAS independent replicas."""
+    paths. ``"sobol"``: the first SOBOL_EVENTS events' coordinates from REPLICAS randomised Sobol' point sets per
+    ray, each of samples / REPLICAS paths (pseudo-random past them): REPLICAS scrambled sets, each shifted for
+    every ray by its own random digital shift (a bitwise exclusive or of every coordinate's SOBOL_BITS bits,
+    which keeps a set's structure and leaves each point uniform), so that every replica's mean is an unbiased
+    estimate, the standard error is that of the mean of the REPLICAS independent replicas, and the errors of
+    different rays are independent (the rays of a task sharing the sets unshifted would err together)."""
 
-    def __init__(self, points, rows, rng, replicas):
-        self.points, self.rows, self.rng, self.replicas = points, rows, rng, replicas
+    def __init__(self, bits, shifts, samples, rng, replicas):
+        self.bits, self.shifts, self.samples, self.rng, self.replicas = bits, shifts, samples, rng, replicas
 
     @classmethod
     def make(cls, sampler, n_rays, samples, rng):
         if sampler == "random" or samples % REPLICAS or samples < 2 * REPLICAS:
-            return cls(None, None, rng, 0)
+            return cls(None, None, samples, rng, 0)
         from scipy.stats import qmc
         per = samples // REPLICAS
         dims = SOBOL_EVENTS * DRAWS
-        points = np.concatenate([qmc.Sobol(dims, scramble=True, seed=rng).random(per) if per & (per - 1) == 0
-                                 else _unbalanced_sobol(qmc, dims, per, rng) for _ in range(REPLICAS)])
-        return cls(points, np.tile(np.arange(samples), n_rays), rng, REPLICAS)
+        points = np.concatenate([qmc.Sobol(dims, scramble=True, bits=SOBOL_BITS, seed=rng).random(per)
+                                 if per & (per - 1) == 0 else _unbalanced_sobol(qmc, dims, per, rng)
+                                 for _ in range(REPLICAS)])
+        bits = np.round(points * 2.0 ** SOBOL_BITS).astype(np.uint32)      # exact: the points are k / 2^bits
+        shifts = rng.integers(0, 2 ** SOBOL_BITS, size=(n_rays, REPLICAS, dims), dtype=np.uint32)
+        return cls(bits, shifts, samples, rng, REPLICAS)
 
     def event(self, i, paths):
         """(DRAWS, len(paths)) the draws of event i of the paths ``paths`` (indices into the task's paths)."""
-        if self.points is not None and i < SOBOL_EVENTS:
-            return self.points[self.rows[paths], DRAWS * i:DRAWS * (i + 1)].T
-        return self.rng.random((DRAWS, len(paths)))
+        if self.bits is None or i >= SOBOL_EVENTS:
+            return self.rng.random((DRAWS, len(paths)))
+        ray, j = np.divmod(paths, self.samples)
+        cols = slice(DRAWS * i, DRAWS * (i + 1))
+        shifted = self.bits[j, cols] ^ self.shifts[ray, j // (self.samples // self.replicas), cols]
+        return (shifted * 2.0 ** -SOBOL_BITS).T
 
     def mean_and_variance(self, contrib):
         """(mean, squared standard error of the mean) per row of contrib (rays x samples)."""
@@ -221,7 +231,7 @@ def _unbalanced_sobol(qmc, dims, n, rng):
     import warnings
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        return qmc.Sobol(dims, scramble=True, seed=rng).random(n)
+        return qmc.Sobol(dims, scramble=True, bits=SOBOL_BITS, seed=rng).random(n)
 
 
 # ------------------------------------------------------------------ directions
