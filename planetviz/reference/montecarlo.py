@@ -39,7 +39,7 @@ Method. L = L_1 + L_{>=2}:
     the draws of its first SOBOL_EVENTS events from scrambled Sobol' sets, so that the paths of a ray cover
     the first vertex's position, the new direction and the next event's collision evenly rather than at
     random (by day order 2 is most of the variance); REPLICAS independently scrambled sets per ray and
-    wavelength, whose means are independent unbiased estimates.
+    wavelength, digitally shifted per ray, whose means are independent unbiased estimates.
 
 Contributions of order ``max_order`` and below only; ``single="paths"`` estimates L_1 with the same paths
 too (the check of the path tracer against the quadrature). ``samples`` paths per ray and wavelength; the
