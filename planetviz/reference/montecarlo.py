@@ -195,14 +195,12 @@ class _Uniforms:
 
     @classmethod
     def make(cls, sampler, n_rays, samples, rng):
+        """The draws of ``n_rays`` x ``samples`` paths under ``sampler`` (independent paths where ``samples`` is
+        not a multiple of REPLICAS or is under 2 REPLICAS)."""
         if sampler == "random" or samples % REPLICAS or samples < 2 * REPLICAS:
             return cls(None, None, samples, rng, 0)
-        from scipy.stats import qmc
-        per = samples // REPLICAS
         dims = SOBOL_EVENTS * DRAWS
-        points = np.concatenate([qmc.Sobol(dims, scramble=True, bits=SOBOL_BITS, seed=rng).random(per)
-                                 if per & (per - 1) == 0 else _unbalanced_sobol(qmc, dims, per, rng)
-                                 for _ in range(REPLICAS)])
+        points = np.concatenate([_scrambled_sobol(dims, samples // REPLICAS, rng) for _ in range(REPLICAS)])
         bits = np.round(points * 2.0 ** SOBOL_BITS).astype(np.uint32)      # exact: the points are k / 2^bits
         shifts = rng.integers(0, 2 ** SOBOL_BITS, size=(n_rays, REPLICAS, dims), dtype=np.uint32)
         return cls(bits, shifts, samples, rng, REPLICAS)
@@ -226,9 +224,11 @@ class _Uniforms:
         return mean, parts.var(axis=1, ddof=1) / self.replicas
 
 
-def _unbalanced_sobol(qmc, dims, n, rng):
-    """n points of a scrambled Sobol' set whose size is not a power of two (each point still uniform)."""
+def _scrambled_sobol(dims, n, rng):
+    """n points (n, dims) of a scrambled Sobol' set of SOBOL_BITS bits (SciPy warns where n is not a power of
+    two, which costs the set its balance, not its points their uniformity)."""
     import warnings
+    from scipy.stats import qmc
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         return qmc.Sobol(dims, scramble=True, bits=SOBOL_BITS, seed=rng).random(n)
