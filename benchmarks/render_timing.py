@@ -2,7 +2,7 @@
 per pixel and per vertex, beside a plain textured sphere timed in the same run.
 
     VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow python benchmarks/render_timing.py \\
-        [--sizes 1280x720 1920x1080] [--frames 100] [--pixel-frames 10]
+        [--sizes 1280x720 1920x1080] [--frames 100] [--pixel-frames 10] [--pixel-only]
 
 Views: Earth from orbit (4 radii, 30 deg: the planet fills ~40% of the frame), from the ground (2 m, looking along
 the horizon: the whole frame is sky and ground), the same in twilight (the sun 3 deg below the horizon ahead: every
@@ -123,16 +123,40 @@ def vertex_reuse(size, frames, rounds=5):
         scene.close()
 
 
+def pixel_only(sizes, frames, quality):
+    """Per pixel beside the plain textured sphere: each view's median over ``frames`` frames, then the plain
+    sphere's over 10, so that each ratio is measured within seconds."""
+    print("| size | view | per pixel | plain textured sphere | per pixel / plain |")
+    print("|---|---|---|---|---|")
+    for size in sizes:
+        w, h = (int(v) for v in size.split("x"))
+        scene = Scene("earth", quality=quality, off_screen=True, window_size=(w, h), shading="pixel")
+        plain = plain_sphere(scene.atmosphere, (w, h))
+        default_sun = vars(scene.sun).copy()
+        for name, set_view in VIEWS.items():
+            scene.set_sun(**default_sun)
+            set_view(scene)
+            scene.render()
+            pixel_ms, plain_ms = frame_ms(scene.ren_win, frames), frame_ms(plain.ren_win, 10)
+            print(f"| {size} | {name} | {pixel_ms:.1f} | {plain_ms:.1f} | {pixel_ms / plain_ms:.1f} |", flush=True)
+        plain.close()
+        scene.close()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--sizes", nargs="+", default=["1280x720", "1920x1080"])
     ap.add_argument("--frames", type=int, default=100)
     ap.add_argument("--pixel-frames", type=int, default=10)
     ap.add_argument("--quality", default="standard")
+    ap.add_argument("--pixel-only", action="store_true",
+                    help="per pixel only, each view's frames followed by 10 of the plain sphere (their ratio)")
     ap.add_argument("--vertex-reuse", metavar="SIZE", help="only the vertex-reuse comparison (vertex_reuse) at SIZE")
     args = ap.parse_args()
     if args.vertex_reuse:
         return vertex_reuse(args.vertex_reuse, max(args.frames // 10, 5))
+    if args.pixel_only:
+        return pixel_only(args.sizes, args.pixel_frames, args.quality)
     views = VIEWS
     print("| size | view | per pixel | per vertex | per vertex, camera moving | plain textured sphere | "
           "per vertex / plain | moving / plain |")

@@ -67,7 +67,7 @@ ScatteringParts get_inscatter_parts(ViewRay ray, int g) {
     if (!ground) return x;
     GroundHit h = ground_hit(ray);
     vec4 t_xy = get_transmittance(ray.a, ray.mu, h.d, g);
-    ScatteringParts y = get_scattering_parts(0.0, h.mu, h.mu_s, ray.nu, true, g);
+    ScatteringParts y = get_ground_point_parts(h.mu, h.mu_s, ray.nu, g);
     return ScatteringParts(x.rayleigh - t_xy * y.rayleigh, x.mie - t_xy * y.mie, x.multiple - t_xy * y.multiple,
                            x.multiple_mie - t_xy * y.multiple_mie);
 }

@@ -41,6 +41,11 @@ ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bo
                            get_compact_scattering(compact_multiple_texture, uvw, g), vec4(0.0));
 }
 
+// get_scattering_parts at a ground point (a = 0), for a ray to the ground.
+ScatteringParts get_ground_point_parts(float mu, float mu_s, float nu, int g) {
+    return get_scattering_parts(0.0, mu, mu_s, nu, true, g);
+}
+
 // In-scattered radiance of group g: the single-scattering tables times their phase functions at the true nu, plus
 // multiple scattering.
 vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {

@@ -27,6 +27,17 @@ ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bo
         get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g) * row);
 }
 
+// get_scattering_parts at a ground point (a = 0) for a ray to the ground, which has length 0 there: no single
+// scattering (near_ground_single_scattering's integral over no length), the multiple-scattering tables with their
+// opacity and ground_row_factor both 1. Written apart because a software renderer runs both sides of every branch:
+// the general function would run the near-ground quadrature and the single-scattering tables for nothing.
+ScatteringParts get_ground_point_parts(float mu, float mu_s, float nu, int g) {
+    vec4 one = vec4(1.0);
+    return ScatteringParts(vec4(0.0), vec4(0.0),
+        get_scattering(multiple_texture, multiple_size, 0.0, mu, mu_s, nu, true, one, g),
+        get_scattering(multiple_mie_texture, multiple_size, 0.0, mu, mu_s, nu, true, one, g));
+}
+
 // In-scattered radiance of group g (the evaluator's phased_scattering): get_scattering_parts with their phases.
 vec4 get_phased_scattering(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
     return phased_sum(get_scattering_parts(a, mu, mu_s, nu, intersects_ground, g), nu, g);

@@ -77,24 +77,21 @@ float altitude_along_ray(float a, float mu, float d) {
 // only (ray_readings, for points up to d_end along it: [0] the camera's, [1] the lowest point's where d_end is past
 // it), so that a quadrature along one ray takes them once.
 mat2x4 ray_readings(float a, float mu, float d_end, int g) {
-    if (mu >= 0.0) return mat2x4(get_optical_depth_to_top_atmosphere_boundary(a, mu, g), vec4(0.0));
-    vec4 camera = get_optical_depth_to_top_atmosphere_boundary(a, -mu, g);
+    vec4 camera = get_optical_depth_to_top_atmosphere_boundary(a, abs(mu), g);
     float d_l = -radius_of(a) * mu;
-    if (d_end <= d_l) return mat2x4(camera, vec4(0.0));
+    if (mu >= 0.0 || d_end <= d_l) return mat2x4(camera, vec4(0.0));
     return mat2x4(camera, get_optical_depth_to_top_atmosphere_boundary(altitude_along_ray(a, mu, d_l), 0.0, g));
 }
 
 vec4 get_optical_depth_from_readings(float a, float mu, float d, mat2x4 readings, int g) {
     float a_d = altitude_along_ray(a, mu, d);
     float mu_d = clamp_cosine((radius_of(a) * mu + d) / radius_of(a_d));
-    if (mu >= 0.0) {
-        return max(readings[0] - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0);
-    }
-    if (d <= -radius_of(a) * mu) {
-        return max(get_optical_depth_to_top_atmosphere_boundary(a_d, -mu_d, g) - readings[0], 0.0);
-    }
-    return max(readings[1] - get_optical_depth_to_top_atmosphere_boundary(a_d, max(mu_d, 0.0), g), 0.0)
-        + max(readings[1] - readings[0], 0.0);
+    bool descending = mu < 0.0 && d <= -radius_of(a) * mu;
+    // One reading at the point, its direction chosen per branch (a software renderer runs every branch's fetch).
+    vec4 point = get_optical_depth_to_top_atmosphere_boundary(a_d, descending ? -mu_d : max(mu_d, 0.0), g);
+    if (mu >= 0.0) return max(readings[0] - point, 0.0);
+    if (descending) return max(point - readings[0], 0.0);
+    return max(readings[1] - point, 0.0) + max(readings[1] - readings[0], 0.0);
 }
 
 // The same on the ray's descending part only (d <= -r mu), where every segment of the ray set-up ends (on the
