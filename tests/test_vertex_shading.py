@@ -346,9 +346,9 @@ def test_the_path_opacity_table_follows_the_camera_altitude(vertex):
 
 #: The rows of docs/benchmarks.md's per-vertex accuracy table that miss the issue's targets, and which of the two
 #: they miss (1280x720, standard): the night side from orbit on Earth and the thick planet, 2.2-2.5% RMS (p99 within
-#: 3%). What limits it is written there: a few hundred pixels at the two ends of the lit crescent, where the planet's
-#: shadow meets the limb, read 2-4 times the per-pixel value, on the limb itself and up to 3 pixels inside it on
-#: Earth, within a pixel above it on the thick planet.
+#: 3%). What limits it is written there: on Earth the ground's terminator seen edge-on 3-30 pixels inside the limb,
+#: where the aerial perspective falls 2-3 times per pixel and the mesh's rings are 4-5 pixels apart; on the thick
+#: planet also the halo within 3 pixels above the limb where the planet's shadow meets it.
 KNOWN_MISSES = {(preset, "orbit, night side"): {"rms"} for preset in ("earth", "exo-co2-thick")}
 #: The issue's targets: RMS and 99th percentile of the floored relative difference.
 TARGETS = {"rms": 0.01, "p99": 0.03}
