@@ -5,11 +5,13 @@ per pixel and per vertex, beside a plain textured sphere timed in the same run.
         [--sizes 1280x720 1920x1080] [--frames 100] [--pixel-frames 10] [--pixel-only]
 
 Views: Earth from orbit (4 radii, 30 deg: the planet fills ~40% of the frame), from the ground (2 m, looking along
-the horizon: the whole frame is sky and ground), the same in twilight (the sun 3 deg below the horizon ahead: every
-ray's single scattering by quadrature, docs/tables.md) and from 1e9 m (the planet a few pixels wide), and from orbit
-over the terminator (the sun on the horizon under the camera) and the night side (60 deg below it: a lit crescent
-along the limb; both with the mesh's sectors where the planet's shadow meets the halo); the sun as the scene places
-it by default except in twilight and over the terminator and the night side. The plain sphere is PyVista's textured
+the horizon: the whole frame is sky and ground; the scene's default sun, placed at latitude 0, is 4.6 deg below the
+horizon at this latitude 45), the same by day (the sun 30 deg up) and in twilight (the sun 3 deg below the horizon
+ahead: every sky ray's single scattering by quadrature, docs/tables.md, as under the default sun), from 1e9 m (the
+planet a few pixels wide), and from orbit over the terminator (the sun on the horizon under the camera) and the
+night side (60 deg below it: a lit crescent along the limb; both with the mesh's sectors where the planet's shadow
+meets the halo); the sun as the scene places it by default except in the last two and from the ground by day and in
+twilight. The plain sphere is PyVista's textured
 sphere with VTK's default lighting and the same Earth texture, seen from the orbit view: what a globe without an
 atmosphere costs, drawn in its own window in each round of per-vertex frames (one with the camera just turned by 0.5
 deg about its focal point, the way a drag in the window turns it, back and forth from round to round so the view
@@ -72,6 +74,8 @@ def plain_sphere(atmosphere, size):
 
 VIEWS = {"orbit (4 radii)": lambda s: s.view_from_space(latitude=20, longitude=10),
          "ground, sky and ground": lambda s: s.view_from_ground(latitude=45, heading=90, pitch=5),
+         "ground, day": lambda s: (s.set_sun(elevation=30.0, azimuth=135.0, latitude=45.0, longitude=0.0),
+                                   s.view_from_ground(latitude=45, heading=90, pitch=5)),
          "ground, twilight": lambda s: (s.set_sun(elevation=-3.0, azimuth=90.0, latitude=45.0, longitude=0.0),
                                         s.view_from_ground(latitude=45, heading=90, pitch=5)),
          "orbit, terminator": lambda s: (s.set_sun(elevation=0.0, azimuth=90.0, latitude=0.0, longitude=0.0),
