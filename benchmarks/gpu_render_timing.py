@@ -320,7 +320,7 @@ BREAKDOWN = {
 
 _NO_HORIZON = ("float share = horizon_share(a, mu);", "float share = 0.0;")
 _NO_NEAR_GROUND = ("if (near_ground_rays(a, intersects_ground)) {", "if (false) {")
-_NO_ROW_FACTOR = ("* ground_row_factor(a, mu, intersects_ground, multiple_size.w, g);", ";")
+_NO_ROW_FACTOR = ("* ground_row_factor(a, mu, intersects_ground, multiple_size.w, multiple_row_1_rho, g);", ";")
 #: Shader variants of the per-pixel breakdown: replacements in the per-pixel renderer's code, and what they show.
 PIXEL_BREAKDOWN = {
     "no horizon quadrature": [_NO_HORIZON],

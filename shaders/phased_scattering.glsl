@@ -21,7 +21,7 @@ ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bo
             s_m += share * (q_m - s_m);
         }
     }
-    vec4 row = ground_row_factor(a, mu, intersects_ground, multiple_size.w, g);
+    vec4 row = ground_row_factor(a, mu, intersects_ground, multiple_size.w, multiple_row_1_rho, g);
     return ScatteringParts(s_r, s_m,
         get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g) * row,
         get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g) * row);

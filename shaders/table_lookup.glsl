@@ -13,6 +13,9 @@
 //   irradiance_size             vec2   irradiance table (n_mu_s, n_r)
 //   single_size                 vec4   single-scattering tables (n_nu, n_mu_s, n_mu, n_r)
 //   multiple_size               vec4   multiple-scattering tables (n_nu, n_mu_s, n_mu, n_r)
+//   r_axis                      float[R_AXIS_KNOTS]  the 4D tables' r coordinate x_r at rho / H = k / (R_AXIS_KNOTS
+//                                          - 1) (NumPy: the tables' r_axis, planetviz/tables/parameterization.py)
+//   multiple_row_1_rho          float  rho [m] of the multiple-scattering tables' first row above the ground
 //   optical_depth_texture       sampler2D  tau(r, mu) to the top; x: mu, y: r, the G groups stacked along y
 //   irradiance_texture          sampler2D  indirect irradiance E(r, mu_s); x: mu_s, y: r, groups along y
 //   single_rayleigh_texture     sampler3D  S_R(r, mu, mu_s, nu); x: nu slices of mu_s, y: mu, z: r, groups along z
@@ -26,6 +29,9 @@ uniform vec2 transmittance_size;
 uniform vec2 irradiance_size;
 uniform vec4 single_size;
 uniform vec4 multiple_size;
+#define R_AXIS_KNOTS 65
+uniform float r_axis[R_AXIS_KNOTS];
+uniform float multiple_row_1_rho;
 uniform sampler2D optical_depth_texture;
 uniform sampler2D irradiance_texture;
 uniform sampler3D single_rayleigh_texture;
@@ -230,11 +236,18 @@ float x_nu_from_nu(float mu, float mu_s, float nu) {
     return clamp(0.5 + 0.5 * (nu - mu * mu_s) / root, 0.0, 1.0);
 }
 
+// The 4D tables' r coordinate x_r in [0, 1] of rho [m]: r_axis read linearly at q = rho / H.
+float x_r_from_rho(float rho, float h) {
+    float k = clamp(rho / h, 0.0, 1.0) * float(R_AXIS_KNOTS - 1);
+    int i = min(int(k), R_AXIS_KNOTS - 2);
+    return mix(r_axis[i], r_axis[i + 1], k - float(i));
+}
+
 // (u_nu, u_mu_s, u_mu, u_r) of a table of size (n_nu, n_mu_s, n_mu, n_r); u_mu_s clamped as in NumPy.
 vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, bool intersects_ground, vec4 size) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
     float rho = rho_of(a);
-    float u_r = texcoord_from_unit_range(rho / h, size.w);
+    float u_r = texcoord_from_unit_range(x_r_from_rho(rho, h), size.w);
     float r_mu = radius_of(a) * mu;
     float disc = r_mu * r_mu - rho * rho;
     float u_mu;
@@ -261,18 +274,17 @@ vec4 one_minus_exp(vec4 x) {
 }
 
 // The factor on what get_scattering reads from a 4D table of n_r rows at (a, mu), for ground rays from below its
-// first row above the ground:
+// first row above the ground (at rho_1 [m]):
 // (1 - exp(-k tau_1)) / (f (1 - exp(-tau_1))), k / f where tau_1 = 0; 1 for every other ray. f: the camera's
 // fraction of the way to row 1; k = d / d_1 and tau_1: the ratio of the ray's length to that of row 1's ray at
 // the same u_mu, and that ray's optical depth (planetviz/tables/lookup.py ground_row_factor says why).
-vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, int g) {
+vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, float rho_1, int g) {
     float h = sqrt(top_radius * top_radius - bottom_radius * bottom_radius);
     float rho = rho_of(a);
-    float f = rho / h * (n_r - 1.0);
+    float f = x_r_from_rho(rho, h) * (n_r - 1.0);
     if (!intersects_ground || f <= 0.0 || f >= 1.0) return vec4(1.0);
     float d = distance_to_bottom_atmosphere_boundary(a, mu);
     float x = distance_coordinate(d, a, rho, distance_warp(a, true));
-    float rho_1 = h / (n_r - 1.0);
     float a_1 = rho_1 * rho_1 / (sqrt(rho_1 * rho_1 + bottom_radius * bottom_radius) + bottom_radius);
     float d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(a_1, true));
     float mu_1 = clamp_cosine(-(rho_1 * rho_1 + d_1 * d_1) / (2.0 * radius_of(a_1) * d_1));

@@ -15,7 +15,7 @@ from planetviz.reference.montecarlo import QUALITY_SAMPLES
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_irradiance, get_scattering, get_transmittance_to_sun
 from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, distance_to_top_atmosphere_boundary,
-                                               mu_s_from_x_mu_s, r_mu_from_transmittance_uv,
+                                               mu_s_from_x_mu_s, r_axis, r_mu_from_transmittance_uv,
                                                r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
                                                scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu,
                                                unit_range_from_texcoord)
@@ -40,6 +40,8 @@ def texture3d(table, u, v, w):
 
 EARTH = load_atmosphere("earth")
 B, T = EARTH.bottom_radius_m, EARTH.top_radius_m
+#: An r axis stretched by a thick atmosphere's optical depth (vertical optical depth 7 at 440 nm) on Earth's radii.
+THICK_AXIS = r_axis(B, T, load_atmosphere("exo-co2-thick").extinction)
 
 
 def random_geometry(n, seed=0):
@@ -52,16 +54,58 @@ def random_geometry(n, seed=0):
     return r, mu, mu_s, nu, ray_intersects_ground(r, mu, B)
 
 
-def test_mappings_invert_exactly():
+@pytest.mark.parametrize("axis", [None, THICK_AXIS], ids=["uniform-rho", "optical"])
+def test_mappings_invert_exactly(axis):
     r, mu, mu_s, nu, g = random_geometry(2000)
     size = (8, 32, 128, 32)
-    back = r_mu_mu_s_nu_from_scattering_uvwz(*scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, size),
-                                             B, T, size)
+    back = r_mu_mu_s_nu_from_scattering_uvwz(*scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, size, axis),
+                                             B, T, size, axis)
     for a, b in zip((r, mu, mu_s, nu), back[:4]):
         assert np.allclose(a, b, atol=1e-8, rtol=0)
     assert np.array_equal(g, back[4])
     rr, mm = r_mu_from_transmittance_uv(*transmittance_uv_from_r_mu(r, mu, B, T, (256, 64)), B, T, (256, 64))
     assert np.allclose(rr, r, rtol=1e-12) and np.allclose(mm, mu, atol=1e-9)
+
+
+@pytest.mark.parametrize("preset", ["earth", "exo-co2-thick"])
+def test_r_axis_follows_the_vertical_optical_depth(preset):
+    # x_r(q) = (q + kappa c(q)) / (1 + kappa c(1)) with c(q) the largest over the wavelengths of the vertical
+    # optical depth from the ground to the altitude of q: c recovered from the axis against scipy's adaptive
+    # quadrature of the same extinction (its requested relative error 1e-10). The axis integrates with 8
+    # Gauss-Legendre nodes between knots: exact to rounding for the smooth exponential profiles, and off by at
+    # most the square of an interval's share of a tent profile's kink (Earth's ozone, 30 km wide, in intervals
+    # up to 2 km deep near its peak: below 1e-5 of the column). Bound 1e-4 of c(1): still 150 times finer than
+    # one row's share of the axis (1/64), what the axis is for.
+    from scipy.integrate import quad
+    from planetviz.tables.parameterization import R_AXIS_KNOTS, R_AXIS_OPTICAL_WEIGHT
+    atm = load_atmosphere(preset)
+    b, t = atm.bottom_radius_m, atm.top_radius_m
+    axis = r_axis(b, t, atm.extinction)
+    q = np.linspace(0.0, 1.0, R_AXIS_KNOTS)
+    a = np.sqrt(q * q * (t * t - b * b) + b * b) - b
+    kappa = R_AXIS_OPTICAL_WEIGHT
+    column = [quad(lambda h, w=w: float(atm.extinction(np.array(h))[w]), 0.0, t - b, epsabs=0, epsrel=1e-10,
+                   limit=400, points=[1e3, 1e4, 3e4])[0] for w in range(atm.n_wavelengths)]
+    c_1 = max(column)
+    c = (axis * (1.0 + kappa * c_1) - q) / kappa
+    want = [max(quad(lambda h, w=w: float(atm.extinction(np.array(h))[w]), 0.0, top, epsabs=0, epsrel=1e-10,
+                     limit=400)[0] for w in range(atm.n_wavelengths)) for top in a[::8]]
+    assert np.allclose(c[::8], want, rtol=0, atol=1e-4 * c_1)
+    assert np.all(np.diff(axis) > 0) and axis[0] == 0.0 and axis[-1] == pytest.approx(1.0, abs=1e-15)
+
+
+def test_r_axis_of_an_optically_thin_atmosphere_is_bruneton_s():
+    # With a vertical optical depth below 1e-6 the optical term moves x_r by at most kappa c(1) <= 1e-6: the
+    # rows stay uniform in rho, Bruneton's mapping.
+    thin = lambda h: np.stack([1e-13 * np.exp(-h / 8e3)] * 3, -1)
+    axis = r_axis(B, T, thin)
+    assert np.allclose(axis, np.linspace(0.0, 1.0, len(axis)), atol=1e-6)
+
+
+def test_r_axis_knots_are_the_shaders():
+    from planetviz.render.shaders import load_shader
+    from planetviz.tables.parameterization import R_AXIS_KNOTS
+    assert f"#define R_AXIS_KNOTS {R_AXIS_KNOTS}\n" in load_shader("table_lookup.glsl")
 
 
 def test_nu_slices_are_distinct_geometries_spanning_what_mu_and_mu_s_allow():
@@ -72,7 +116,7 @@ def test_nu_slices_are_distinct_geometries_spanning_what_mu_and_mu_s_allow():
     # slices were clamped onto the range's ends, at the sun-at-zenith texel all four held the same geometry,
     # and reading between them put Mars's sky 10 km up +33% off the reference (docs/tables.md, Mars).
     size = (4, 32, 64, 8)
-    r, mu, mu_s, nu, g = scattering_grid(type("T", (), {"bottom": B, "top": T})(), size)
+    r, mu, mu_s, nu, g = scattering_grid(type("T", (), {"bottom": B, "top": T, "r_axis": None})(), size)
     root = np.sqrt(np.maximum((1 - mu ** 2) * (1 - mu_s ** 2), 0.0))
     assert np.all(np.abs(nu - mu * mu_s) <= root + 1e-12)
     wide = root > NU_RANGE_FLOOR                     # nearer the poles every slice is ~ one geometry
@@ -141,9 +185,10 @@ def test_scattering_lookup_is_linear_in_r_and_mu_and_geometric_in_mu_s_and_nu():
     k, j, n, s = np.meshgrid(np.arange(n_r), np.arange(n_mu), np.arange(n_nu), np.arange(n_mu_s), indexing="ij")
     table = ((1.0 + 2.0 * k + 3.0 * j) * np.exp(-0.7 * s + 0.4 * n))[..., None]
     r, mu, mu_s, nu, g = random_geometry(300, seed=5)
-    t = type("T", (), {"bottom": B, "top": T})()
+    t = type("T", (), {"bottom": B, "top": T, "r_axis": THICK_AXIS})()
     got = get_scattering(t, table, r, mu, mu_s, nu, g, opacity=np.ones((300, 1)))[:, 0]
-    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, (n_nu, n_mu_s, n_mu, n_r))
+    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, (n_nu, n_mu_s, n_mu, n_r),
+                                                                THICK_AXIS)
     kc, jc, sc = (u_r * n_r - 0.5), (u_mu * n_mu - 0.5), (u_mu_s * n_mu_s - 0.5)
     nc = u_nu * (n_nu - 1)
     want = (1.0 + 2.0 * kc + 3.0 * jc) * np.exp(-0.7 * sc + 0.4 * nc)
@@ -158,7 +203,7 @@ def test_scattering_lookup_decays_geometrically_toward_a_zero_texel():
     from planetviz.tables.lookup import ZERO_FLOOR
     table = np.zeros((2, 4, 1, 4, 1))
     table[..., 2, 0] = 1.0                       # mu_s texel 2 lit, texel 1 dark
-    t = type("T", (), {"bottom": B, "top": T})()
+    t = type("T", (), {"bottom": B, "top": T, "r_axis": None})()
     x = (np.array([1.5, 1.25, 2.0]) + 0.5) / 4             # texel coordinates 1.5, 1.25 and 2 along mu_s
     mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(x, 4), B, T)
     got = get_scattering(t, table, np.full(3, B + 100.0), np.full(3, 0.5), mu_s, np.full(3, 0.5), np.zeros(3, bool),

@@ -22,6 +22,7 @@ from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
 from ..model.color import albedo_matrix
 from ..tables.compact import CompactTables
+from ..tables.lookup import first_row_rho
 from ..tables.near_ground import near_ground_altitude
 from ..tables.parameterization import MU_S_MIN
 from .shaders import shader_code
@@ -103,7 +104,8 @@ class TableTextures:
             return {**shared, "compact_size": ("3f", (n_mu_s, n_mu, n_h))}
         s1, sm = t.rayleigh.shape, t.multiple.shape
         return {**shared, "single_size": ("4f", (s1[2], s1[3], s1[1], s1[0])),
-                "multiple_size": ("4f", (sm[2], sm[3], sm[1], sm[0])), **ray_quadrature_uniforms(atm, t)}
+                "multiple_size": ("4f", (sm[2], sm[3], sm[1], sm[0])), "r_axis": ("1fv", t.r_axis),
+                "multiple_row_1_rho": ("f", first_row_rho(t, sm[0])), **ray_quadrature_uniforms(atm, t)}
 
     def _cube(self):
         """The surface map on the faces of a cube (planetviz/render/surface.py), or a black 1-texel cube."""

@@ -8,8 +8,8 @@ import numpy as np
 
 from .parameterization import (distance_coordinate, distance_from_coordinate, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
-                               ray_intersects_ground, scattering_uvwz_from_r_mu_mu_s_nu, texcoord_from_unit_range,
-                               transmittance_uv_from_r_mu, x_mu_s_from_mu_s)
+                               ray_intersects_ground, rho_from_x_r, scattering_uvwz_from_r_mu_mu_s_nu,
+                               texcoord_from_unit_range, transmittance_uv_from_r_mu, x_mu_s_from_mu_s, x_r_from_rho)
 from .sampling import texel_axis
 from .sampling import texture2d
 
@@ -97,17 +97,22 @@ def ray_opacity(t, r, mu, intersects_ground):
     averaged along the ray with the weights beta T dt / (1 - T): the sky half of the tables holds that mean,
     which changes slowly with the ray, while S itself follows the ray's length and optical depth. Next to the
     top of the atmosphere S goes to 0 with the column of air above the camera, a convex fall that linear
-    interpolation between r rows 3.8 km apart (the Earth's single scattering at standard; 17 km for its
-    multiple scattering) read 26-29% high from 1-100 m under the top looking up, and 19-24% high looking
+    interpolation between r rows 3.8 km apart (the Earth's single scattering at standard with rows uniform in
+    rho) read 26-29% high from 1-100 m under the top looking up, and 19-24% high looking
     horizontally, where the texels at the same u_mu of the two rows hold rays of other lengths
     (``benchmarks/top_rows.py``, single scattering against the reference quadrature): within 0.2% with the mean.
 
     Ground rays keep S (and :func:`ground_row_factor` for cameras below the first row): their 1 - T for short
     rays from near the ground is the difference of two readings of long upward rays at rows of very different
-    altitude spacing (rho is uniform), off by several times its value 0.2 m up."""
+    altitude spacing (the rows are dense near the ground), off by several times its value 0.2 m up."""
     r, mu, ground = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(intersects_ground))
     tau = get_optical_depth_to_top_atmosphere_boundary(t, r, np.where(ground, 0.0, mu))
     return np.where(ground[..., None], 1.0, one_minus_exp(tau))
+
+
+def first_row_rho(t, n_r):
+    """rho [m] of the first row above the ground of a 4D table of ``n_r`` rows (the shaders' multiple_row_1_rho)."""
+    return float(rho_from_x_r(1.0 / (n_r - 1), np.sqrt(t.top * t.top - t.bottom * t.bottom), t.r_axis))
 
 
 def ground_row_factor(t, r, mu, intersects_ground, n_r):
@@ -132,7 +137,7 @@ def ground_row_factor(t, r, mu, intersects_ground, n_r):
     r, mu = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float))
     h = np.sqrt(t.top * t.top - t.bottom * t.bottom)
     rho = np.sqrt(np.maximum(r * r - t.bottom * t.bottom, 0.0))
-    f = rho / h * (n_r - 1)
+    f = x_r_from_rho(rho, h, t.r_axis) * (n_r - 1)
     sel = np.asarray(intersects_ground) & (f > 0.0) & (f < 1.0)
     if not np.any(sel):
         return np.ones(r.shape + (1,))
@@ -141,7 +146,7 @@ def ground_row_factor(t, r, mu, intersects_ground, n_r):
     a = r - t.bottom
     d = distance_to_bottom_atmosphere_boundary(r, mu, t.bottom)
     x = distance_coordinate(d, a, rho, distance_warp(r, t.bottom, t.top, True))
-    rho_1 = h / (n_r - 1)
+    rho_1 = first_row_rho(t, n_r)
     r_1 = np.sqrt(rho_1 * rho_1 + t.bottom * t.bottom)
     a_1 = rho_1 * rho_1 / (r_1 + t.bottom)
     d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(r_1, t.bottom, t.top, True))
@@ -215,7 +220,7 @@ class ScatteringStencil:
         from scipy.sparse import csr_matrix
         n_r, n_mu, n_nu, n_mu_s = shape
         u_nu, u_mu_s, u_mu, u_r = mapping(r, mu, mu_s, nu, intersects_ground, t.bottom, t.top,
-                                          (n_nu, n_mu_s, n_mu, n_r))
+                                          (n_nu, n_mu_s, n_mu, n_r), t.r_axis)
         coord = u_nu * (n_nu - 1)
         tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
         lerp = coord - tex_nu
@@ -268,7 +273,7 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None):
     """
     n_r, n_mu, n_nu, n_mu_s = table.shape[:4]
     u_nu, _, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground,
-                                                                t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r))
+                                                                t.bottom, t.top, (n_nu, n_mu_s, n_mu, n_r), t.r_axis)
     coord = u_nu * (n_nu - 1)
     tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
     lerp = (coord - tex_nu)[..., None]

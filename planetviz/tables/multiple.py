@@ -53,8 +53,10 @@ from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
 #: view from the nadir to 15 deg down from its lowest rows into one texel interval, and the density, which at a
 #: vertical optical depth of 4 changes within S's first row interval (1.6 km up at standard), not interpolated
 #: between S's 8 rows. The energy balance over a black ground (tests/test_stability.py, 440 nm, the 10-bar CO2
-#: planet, S at 8 r rows): 0.851 reading S, 0.899 integrating only the directions that meet the ground, 0.952
-#: on 16 rows of its own, 0.966 on 32 at 1.6x the time (with S at 16 rows, ``precompute.sizes_for``: 0.964).
+#: planet, S at 8 r rows uniform in rho): 0.851 reading S, 0.899 integrating only the directions that meet the
+#: ground, 0.952 on 16 rows of its own, 0.966 on 32 at 1.6x the time. With S at 16 rows
+#: (``precompute.sizes_for``) on the r axis that follows the optical depth (``parameterization.r_axis``): 0.969
+#: on 32 rows of its own, 0.956 on S's 16 (``python benchmarks/energy_balance.py --balance exo-co2-thick``).
 THICK_DENSITY_ROWS = 2
 
 

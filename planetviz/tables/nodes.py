@@ -11,7 +11,7 @@ import functools
 import numpy as np
 
 from .parameterization import (distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary,
-                               r_mu_mu_s_nu_from_scattering_uvwz, texcoord_from_unit_range)
+                               r_mu_mu_s_nu_from_scattering_uvwz, texcoord_from_unit_range, x_r_from_rho)
 
 #: How many times the nodes rays longer than the ground's horizontal ray get (``single_scattering`` and the
 #: multiple-scattering stage, ``multiple._ray_paths``).
@@ -99,7 +99,7 @@ def scattering_grid(tables, size=None):
     u_nu = (np.arange(n_nu) / max(n_nu - 1, 1))[None, None, :, None]
     u_mu_s = texel_centres(n_mu_s)[None, None, None, :]
     shape = (n_r, n_mu, n_nu, n_mu_s)
-    out = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
+    out = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size, tables.r_axis)
     return tuple(np.ascontiguousarray(np.broadcast_to(a, shape)) for a in out)     # r and mu per (r, mu) only
 
 
@@ -125,11 +125,12 @@ def integration_grid(tables, size=None):
     row = n_r - 1
     zero = (d[row] == 0.0) & ~ground[row]
     if np.any(zero):
-        u_r = texcoord_from_unit_range(np.sqrt(radius ** 2 - tables.bottom ** 2) / h, n_r)
+        u_r = texcoord_from_unit_range(x_r_from_rho(np.sqrt(radius ** 2 - tables.bottom ** 2), h, tables.r_axis), n_r)
         u_mu = np.broadcast_to(texel_centres(n_mu)[:, None, None], zero.shape)[zero]
         u_nu = np.broadcast_to((np.arange(n_nu) / max(n_nu - 1, 1))[None, :, None], zero.shape)[zero]
         u_mu_s = np.broadcast_to(texel_centres(n_mu_s)[None, None, :], zero.shape)[zero]
-        sub = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size)
+        sub = r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, tables.bottom, tables.top, size,
+                                                tables.r_axis)
         for array, value in zip((r, mu, mu_s, nu, ground), sub):
             array[row][zero] = value
         d[row][zero] = _length(sub[0], sub[1], sub[4], tables.bottom, tables.top)

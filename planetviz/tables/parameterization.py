@@ -8,10 +8,11 @@ from the ground, rho = sqrt(r^2 - R_b^2) the same from radius r.
 * Transmittance T(r, mu): x_r = rho / H; x_mu = (d - d_min) / (d_max - d_min) with d the distance to the
   top, d_min = R_t - r, d_max = rho + H. Dense near the horizon, where T varies fastest.
 * Irradiance E(r, mu_s): x_r = (r - R_b) / (R_t - R_b), x_mu_s = (mu_s + 1) / 2.
-* Scattering S(r, mu, mu_s, nu): u_r = rho / H; u_mu in [0, 1/2) for rays that hit the ground (distance to
-  the ground, mapped so both halves meet at the horizon), [1/2, 1] for the others (distance to the top), on
-  planets much larger than their atmosphere is thick through a warp of the distance (``distance_warp``);
-  the sky half refined for the rays that dip below the horizontal (``refine_dipping_rays``);
+* Scattering S(r, mu, mu_s, nu): u_r = x_r(rho / H), rho / H stretched by the optical depth (``r_axis``);
+  u_mu in [0, 1/2) for rays that hit the ground (distance to the ground, mapped so both halves meet at the
+  horizon), [1/2, 1] for the others (distance to the top), on planets much larger than their atmosphere is
+  thick through a warp of the distance (``distance_warp``); the sky half refined for the rays that dip below
+  the horizontal (``refine_dipping_rays``);
   u_mu_s from the distance to the top along mu_s seen from the ground, concentrated above mu_s_min;
   u_nu linear in nu over the range that (mu, mu_s) allow (``x_nu_from_nu``); mu_s_min = cos(108 deg) keeps
   twilight down to 18 deg below the horizon.
@@ -99,12 +100,13 @@ def r_mu_s_from_irradiance_uv(u, v, bottom, top, size):
 
 
 # ------------------------------------------------------------------- scattering
-def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, top, size):
-    """(u_nu, u_mu_s, u_mu, u_r) of S; ``size`` = (n_nu, n_mu_s, n_mu, n_r)."""
+def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, top, size, axis=None):
+    """(u_nu, u_mu_s, u_mu, u_r) of S; ``size`` = (n_nu, n_mu_s, n_mu, n_r); ``axis`` the r axis (:func:`r_axis`,
+    the tables' ``r_axis``; None: uniform in rho)."""
     n_nu, n_mu_s, n_mu, n_r = size
     h = np.sqrt(top * top - bottom * bottom)
     rho = safe_sqrt(r * r - bottom * bottom)
-    u_r, u_mu_s = _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s)
+    u_r, u_mu_s = _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s, axis)
     r_mu = r * mu
     disc = r_mu * r_mu - r * r + bottom * bottom
     # Ground rays: distance to the ground, from r - R_b (looking down) to rho (the horizon).
@@ -120,13 +122,66 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     return x_nu_from_nu(mu, mu_s, nu), u_mu_s, u_mu, u_r
 
 
-def _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s):
+#: The 4D tables' r axis (``r_axis``) is tabulated at this many values of rho / H, uniformly spaced on [0, 1], and
+#: read linearly between them (shaders/table_lookup.glsl declares the same number).
+R_AXIS_KNOTS = 65
+
+#: kappa of ``r_axis``: the share of the r rows that follow the optical depth, against those uniform in rho.
+R_AXIS_OPTICAL_WEIGHT = 1.0
+
+#: Gauss-Legendre nodes per interval between knots integrating the vertical optical depth (``r_axis``).
+R_AXIS_SAMPLES = 8
+
+
+def r_axis(bottom, top, extinction):
+    """x_r, the 4D tables' r coordinate in [0, 1], at the ``R_AXIS_KNOTS`` values q_k = k / (R_AXIS_KNOTS - 1) of
+    q = rho / H (linear in q between them):
+
+        x_r(q) = (q + kappa c(q)) / (1 + kappa c(1)),
+
+    c(q) the largest over the wavelengths of the vertical optical depth [dimensionless] from the ground up to the
+    altitude of q, a(q) = sqrt(q^2 H^2 + R_b^2) - R_b, and kappa = ``R_AXIS_OPTICAL_WEIGHT``. ``extinction``:
+    the extinction coefficient [1/m] as a function of altitude [m], shape ``a.shape + (W,)``.
+
+    Bruneton's x_r = q puts the rows densely near the ground, where the horizon's geometry changes fastest, but
+    wherever the atmosphere puts its air: the light inside an optically thick atmosphere changes by a factor e per
+    unit of optical depth, and rows uniform in q put several units between rows there (under 5,194 km of air on a
+    planet of 1.17e8 m, with a vertical optical depth of 7.1, they put 16 multiple-scattering rows at 0, 23, 93 and
+    210 km, a unit of optical depth being about 30 km deep there: docs/tables.md). With the optical term each
+    unit of vertical optical depth gets kappa times the rows the whole of q gets; an optically thin atmosphere
+    (c(1) << 1) keeps x_r = q."""
+    h = np.sqrt(top * top - bottom * bottom)
+    q = np.linspace(0.0, 1.0, R_AXIS_KNOTS)
+    a = safe_sqrt(q * q * h * h + bottom * bottom) - bottom
+    nodes, weights = np.polynomial.legendre.leggauss(R_AXIS_SAMPLES)
+    half = 0.5 * np.diff(a)[:, None]
+    heights = 0.5 * (a[1:] + a[:-1])[:, None] + half * nodes                          # (K - 1, N)
+    steps = np.einsum("kn,knw->kw", half * weights, extinction(heights))             # (K - 1, W)
+    c = np.concatenate([np.zeros((1, steps.shape[1])), np.cumsum(steps, axis=0)]).max(axis=1)
+    kappa = R_AXIS_OPTICAL_WEIGHT
+    return (q + kappa * c) / (1.0 + kappa * c[-1])
+
+
+def x_r_from_rho(rho, h, axis=None):
+    """The r coordinate x_r in [0, 1] of rho [m] (H = ``h``): ``axis`` (:func:`r_axis`) read linearly at
+    q = rho / H, or q itself where ``axis`` is None (Bruneton's mapping)."""
+    q = rho / h
+    return q if axis is None else np.interp(q, np.linspace(0.0, 1.0, len(axis)), axis)
+
+
+def rho_from_x_r(x, h, axis=None):
+    """Inverse of :func:`x_r_from_rho` (exact: x_r is linear in q between knots)."""
+    return h * (x if axis is None else np.interp(x, axis, np.linspace(0.0, 1.0, len(axis))))
+
+
+def _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s, axis):
     """(u_r, u_mu_s), the same for S and the scattering density J."""
-    u_r = texcoord_from_unit_range(safe_sqrt(r * r - bottom * bottom) / np.sqrt(top * top - bottom * bottom), n_r)
+    h = np.sqrt(top * top - bottom * bottom)
+    u_r = texcoord_from_unit_range(x_r_from_rho(safe_sqrt(r * r - bottom * bottom), h, axis), n_r)
     return u_r, texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s, bottom, top), n_mu_s)
 
 
-def density_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, top, size):
+def density_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, top, size, axis=None):
     """(u_nu, u_mu_s, u_mu, u_r) of the scattering density J (internal to the multiple-scattering stage):
     u_r, u_mu_s and u_nu as for S; u_mu = theta / pi with theta the view zenith angle, texel centres at
     (i + 1/2) / n. J(x, v) is a property of the point and the direction, continuous across the horizon: the
@@ -135,7 +190,7 @@ def density_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom, t
     15 deg below the horizontal from 1 km next to it. ``intersects_ground`` is not used (the same signature
     as :func:`scattering_uvwz_from_r_mu_mu_s_nu`)."""
     n_nu, n_mu_s, n_mu, n_r = size
-    u_r, u_mu_s = _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s)
+    u_r, u_mu_s = _u_r_u_mu_s(r, mu_s, bottom, top, n_r, n_mu_s, axis)
     return x_nu_from_nu(mu, mu_s, nu), u_mu_s, np.arccos(clamp_cosine(mu)) / np.pi, u_r
 
 
@@ -356,7 +411,7 @@ def mu_s_from_x_mu_s(x, bottom, top):
     return clamp_cosine(mu_s)
 
 
-def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size):
+def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size, axis=None):
     """Inverse of :func:`scattering_uvwz_from_r_mu_mu_s_nu`; also returns ``intersects_ground``.
 
     Exact where nu's range is at least ``NU_RANGE_FLOOR`` wide each side; nearer the poles the slices'
@@ -364,7 +419,7 @@ def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size
     """
     n_nu, n_mu_s, n_mu, n_r = size
     h = np.sqrt(top * top - bottom * bottom)
-    rho = h * unit_range_from_texcoord(u_r, n_r)
+    rho = rho_from_x_r(unit_range_from_texcoord(u_r, n_r), h, axis)
     r = np.sqrt(rho * rho + bottom * bottom)
     ground = u_mu < 0.5
     # ground half

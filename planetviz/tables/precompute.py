@@ -33,7 +33,7 @@ from .lookup import SMALLEST, get_transmittance, get_transmittance_to_sun, ray_o
 from .multiple import multiple_scattering
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, altitude, integration_grid, is_optically_thick, ray_nodes,
                     texel_centres)
-from .parameterization import distance_to_top_atmosphere_boundary, r_mu_from_transmittance_uv
+from .parameterization import distance_to_top_atmosphere_boundary, r_axis, r_mu_from_transmittance_uv
 from .validated import FORWARD_LOBE_G, strongest_forward_lobe
 
 
@@ -78,6 +78,7 @@ class Tables:
     mie: np.ndarray
     multiple: np.ndarray | None = None
     multiple_mie: np.ndarray | None = None
+    r_axis: np.ndarray | None = None     # the 4D tables' r axis (parameterization.r_axis); None: rho / H
     timings: dict = field(default_factory=dict)
     orders: int = 1
     computed: list = field(default_factory=list)
@@ -96,9 +97,9 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     """``sizes`` as the precompute uses them for ``atm``:
 
     1. in an optically thick atmosphere the multiple-scattering table has at least ``THICK_MULTIPLE_ROWS`` r rows.
-       With the standard level's 8, the 10-bar CO2 planet's 12 test rays read 4.0% RMS (the views down from 10 km
-       8-11% low at 440 nm, read between rows 6.6 and 14.8 km up, where the light seen down changes with the
-       altitude's optical depth); with 16, 2.35% (tests/test_tables.py);
+       With the standard level's 8, the 10-bar CO2 planet's 12 test rays read 2.2% RMS off the reference (up to
+       5.8% low at 440 nm, where the light changes with the altitude's optical depth); with 16, 1.4%, for 2.3
+       times the precompute (tests/test_tables.py's rays, the reference's noise 0.9%);
     2. under a dominant forward lobe (``validated.strongest_forward_lobe`` above ``validated.FORWARD_LOBE_G``) the
        multiple-scattering tables have at least ``sizes.lobe_nu`` nu texels: their particles' part is stored over
        the twice-scattered lobe F(nu), which varies a hundredfold across 4 texels, and the diffuse light seen
@@ -284,7 +285,8 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     shapes = stages.shapes["multiple_scattering"]
     tau = stages.run("transmittance", lambda: ({"optical_depth": optical_depth_to_top(atm, sizes)}, {}))
     tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, tau["optical_depth"],
-                    np.zeros(shapes["irradiance"], np.float32), np.empty(0), np.empty(0))
+                    np.zeros(shapes["irradiance"], np.float32), np.empty(0), np.empty(0),
+                    r_axis=r_axis(atm.bottom_radius_m, atm.top_radius_m, atm.extinction))
     single = stages.run("single_scattering",
                         lambda: (dict(zip(("rayleigh", "mie"), single_scattering(tables, atm, progress))), {}))
     tables.rayleigh, tables.mie = single["rayleigh"], single["mie"]
