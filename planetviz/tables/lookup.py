@@ -97,8 +97,8 @@ def ray_opacity(t, r, mu, intersects_ground):
     averaged along the ray with the weights beta T dt / (1 - T): the sky half of the tables holds that mean,
     which changes slowly with the ray, while S itself follows the ray's length and optical depth. Next to the
     top of the atmosphere S goes to 0 with the column of air above the camera, a convex fall that linear
-    interpolation between r rows 3.8 km apart (the Earth's single scattering at standard with rows uniform in
-    rho) read 26-29% high from 1-100 m under the top looking up, and 19-24% high looking
+    interpolation between r rows 3.8 km apart (the Earth's single scattering at standard; 17 km for its
+    multiple scattering) read 26-29% high from 1-100 m under the top looking up, and 19-24% high looking
     horizontally, where the texels at the same u_mu of the two rows hold rays of other lengths
     (``benchmarks/top_rows.py``, single scattering against the reference quadrature): within 0.2% with the mean.
 

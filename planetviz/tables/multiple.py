@@ -56,7 +56,7 @@ from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
 #: planet, S at 8 r rows uniform in rho): 0.851 reading S, 0.899 integrating only the directions that meet the
 #: ground, 0.952 on 16 rows of its own, 0.966 on 32 at 1.6x the time. With S at 16 rows
 #: (``precompute.sizes_for``) on the r axis that follows the optical depth (``parameterization.r_axis``): 0.969
-#: on 32 rows of its own, 0.956 on S's 16 (``python benchmarks/energy_balance.py --balance exo-co2-thick``).
+#: on 32 rows of its own, 0.959 on S's 16 (``python benchmarks/energy_balance.py --balance exo-co2-thick``).
 THICK_DENSITY_ROWS = 2
 
 

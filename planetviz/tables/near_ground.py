@@ -3,16 +3,16 @@ tables (GLSL twin: ``near_ground_single_scattering`` in shaders/near_ground.glsl
 
 Why. A ground ray from a camera between the single-scattering tables' rows 0 and ``NEAR_GROUND_ROWS`` is read by
 interpolating in r between the rays of neighbouring rows at the same u_mu: near the horizon row 0's ground rays
-have zero length, row 1's are 64 km long (the Earth, draft; 33 km standard), where the camera's own ray is 5 km
-long from 2 m. With the sun low the source function changes along those rays (the sun's elevation by 0.5 deg over
-60 km, and its transmittance with altitude), so reading them is off by up to 5.9% just below the horizon from 2 m
+have zero length, row 1's are 58 km long (draft; 28 km standard), where the camera's own ray is 5 km long from
+2 m. With the sun low the source function changes along those rays (the sun's elevation by 0.5 deg over 58 km,
+and its transmittance with altitude), so the reading is off by up to 5.9% just below the horizon from 2 m
 (draft; 2.4% standard) and 4.1% from 100 m (standard) where the sky next to it is within 1-2%: a seam at the
 horizon (the seam test, docs/stability.md), even with :func:`lookup.ground_row_factor` (46% without it). The
 rows above the second differ too: read from the standard tables these rays are 1.7% off from 400 m, 1.1% from
-800 m and 0.8% from 1.3 km, against 0.6-0.7% for the rest of the sky (these figures measured with rows uniform in rho);
-from row 5 on (the Earth: 1.48 km standard, 5.2 km draft) they are within 0.5% (standard) and 1.4% (draft).
+800 m and 0.8% from 1.3 km, against 0.6-0.7% for the rest of the sky; from row 5 on (1.57 km standard, 6.7 km draft) they are within
+0.5% (standard) and 1.4% (draft).
 
-How. These rays are short (at most the distance to the horizon from row 5: 260 km draft, 137 km standard) and their
+How. These rays are short (at most the distance to the horizon from row 5: 290 km draft, 140 km standard) and their
 integrand smooth except where the ray enters the planet's shadow (the sun below the local horizon of the points
 further along): there the sunlight steps to 0, which Gauss-Legendre nodes at fixed places resolve poorly (up to 48%
 off in twilight from 300 m with 8 nodes over the whole ray). :func:`shadow_interval` finds that part of the ray in

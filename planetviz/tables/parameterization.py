@@ -126,9 +126,6 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
 #: read linearly between them (shaders/table_lookup.glsl declares the same number).
 R_AXIS_KNOTS = 65
 
-#: kappa of ``r_axis``: the share of the r rows that follow the optical depth, against those uniform in rho.
-R_AXIS_OPTICAL_WEIGHT = 1.0
-
 #: Gauss-Legendre nodes per interval between knots integrating the vertical optical depth (``r_axis``).
 R_AXIS_SAMPLES = 8
 
@@ -137,19 +134,23 @@ def r_axis(bottom, top, extinction):
     """x_r, the 4D tables' r coordinate in [0, 1], at the ``R_AXIS_KNOTS`` values q_k = k / (R_AXIS_KNOTS - 1) of
     q = rho / H (linear in q between them):
 
-        x_r(q) = (q + kappa c(q)) / (1 + kappa c(1)),
+        x_r(q) = (q + kappa c(q)) / (1 + kappa c(1)),    kappa = max(0, 1 - 1 / c(1)),
 
     c(q) the largest over the wavelengths of the vertical optical depth [dimensionless] from the ground up to the
-    altitude of q, a(q) = sqrt(q^2 H^2 + R_b^2) - R_b, and kappa = ``R_AXIS_OPTICAL_WEIGHT``. ``extinction``:
-    the extinction coefficient [1/m] as a function of altitude [m], shape ``a.shape + (W,)``.
+    altitude of q, a(q) = sqrt(q^2 H^2 + R_b^2) - R_b. ``extinction``: the extinction coefficient [1/m] as a
+    function of altitude [m], shape ``a.shape + (W,)``.
 
     Bruneton's x_r = q puts the rows densely near the ground, where the horizon's geometry changes fastest, but
     wherever the atmosphere puts its air: the light inside an optically thick atmosphere changes by a factor e per
     unit of optical depth, and rows uniform in q put several units between rows there (under 5,194 km of air on a
     planet of 1.17e8 m, with a vertical optical depth of 7.1, they put 16 multiple-scattering rows at 0, 23, 93 and
-    210 km, a unit of optical depth being about 30 km deep there: docs/tables.md). With the optical term each
-    unit of vertical optical depth gets kappa times the rows the whole of q gets; an optically thin atmosphere
-    (c(1) << 1) keeps x_r = q."""
+    210 km, a unit of optical depth being about 30 km deep there: docs/tables.md). The optical term takes the
+    share kappa c(1) / (1 + kappa c(1)) = 1 - 1 / c(1) of the rows, the optical depth beyond the first unit (86% at
+    c(1) = 7.1); an atmosphere whose vertical optical depth is at most 1 (the Earth 0.25, Mars 0.38) keeps
+    Bruneton's rows: its light changes little with the optical depth, and where its rows fall matters through
+    other structure (kappa = 1 on the Earth moved a fifth of its rows toward the ground and left its ozone
+    layer's upper edge between the 8 multiple-scattering rows at 24 and 37 km: the sky from 30-40 km read 9.5%
+    RMS off tables with 4 times the rows, against 2.3% with Bruneton's)."""
     h = np.sqrt(top * top - bottom * bottom)
     q = np.linspace(0.0, 1.0, R_AXIS_KNOTS)
     a = safe_sqrt(q * q * h * h + bottom * bottom) - bottom
@@ -158,7 +159,7 @@ def r_axis(bottom, top, extinction):
     heights = 0.5 * (a[1:] + a[:-1])[:, None] + half * nodes                          # (K - 1, N)
     steps = np.einsum("kn,knw->kw", half * weights, extinction(heights))             # (K - 1, W)
     c = np.concatenate([np.zeros((1, steps.shape[1])), np.cumsum(steps, axis=0)]).max(axis=1)
-    kappa = R_AXIS_OPTICAL_WEIGHT
+    kappa = max(0.0, 1.0 - 1.0 / c[-1]) if c[-1] > 0.0 else 0.0
     return (q + kappa * c) / (1.0 + kappa * c[-1])
 
 

@@ -98,7 +98,7 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
 
     1. in an optically thick atmosphere the multiple-scattering table has at least ``THICK_MULTIPLE_ROWS`` r rows.
        With the standard level's 8, the 10-bar CO2 planet's 12 test rays read 2.2% RMS off the reference (up to
-       5.8% low at 440 nm, where the light changes with the altitude's optical depth); with 16, 1.4%, for 2.3
+       5.4% low at 440 nm, where the light changes with the altitude's optical depth); with 16, 1.5%, for about 2.5
        times the precompute (tests/test_tables.py's rays, the reference's noise 0.9%);
     2. under a dominant forward lobe (``validated.strongest_forward_lobe`` above ``validated.FORWARD_LOBE_G``) the
        multiple-scattering tables have at least ``sizes.lobe_nu`` nu texels: their particles' part is stored over
