@@ -21,7 +21,6 @@ the top, whose radiance of order 2 in deep twilight is 1e-13 to 1e-11 / sr; then
 with their atmosphere and ray class.
 """
 import argparse
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -29,20 +28,12 @@ import numpy as np
 from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
-from planetviz.tables.multiple import multiple_scattering
+from planetviz.tables.multiple import first_two_orders
 from planetviz.tables.precompute import sizes_for
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, rays
 from tables_suite import cases
 
 DATA = Path(__file__).resolve().parent / "data" / "orders"
-
-
-def first_two_orders(tables, atm, sizes, directions):
-    """``tables`` with their multiple-scattering tables holding order 2 only and their sky irradiance order 1."""
-    ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *directions,
-                                                    samples=sizes.multiple_samples, tolerance=0.0, max_orders=2)
-    return replace(tables, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32),
-                   irradiance=irradiance.astype(np.float32))
 
 
 def compare(split, args, quadratures):

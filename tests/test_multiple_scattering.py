@@ -52,7 +52,7 @@ def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along
     # ray: the integration along the rays must have converged to 2% (it is not the tables' main error there:
     # the direction quadrature is, docs/tables.md). Measured: 0.2% / 0.3% / 0.2% at 680 / 550 / 440 nm with
     # the long rays' doubled nodes; -0.7% / +3.8% / +11.3% with 8 nodes on every ray, which fails.
-    from planetviz.tables.multiple import multiple_scattering
+    from planetviz.tables.multiple import first_two_orders
     sizes = QUALITY["standard"]
     cam = np.array([0.0, 0.0, B + 1e6])
     mu = -np.sqrt(1.0 - ((B + 1e4) / (B + 1e6)) ** 2)
@@ -78,7 +78,7 @@ def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_sing
     # the horizontal from 1 km next to the nadir texel (where every nu slice is the same geometry, and the
     # particles' density divided by F(nu) there was multiplied back by F(0.97), ~20x larger): +143% / +54% /
     # +13%, which fails. Bound 10%: the stage's own direction quadrature and grid (10x10, 4x32x64x8).
-    from planetviz.tables.multiple import multiple_scattering
+    from planetviz.tables.multiple import first_two_orders
     sizes = QUALITY["standard"]
     kw = dict(samples=sizes.multiple_samples, tolerance=0.0)
     s2, s2_mie, e1, _ = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
@@ -166,7 +166,7 @@ def test_second_order_under_a_sharp_forward_lobe_matches_a_direct_integration():
     from planetviz.model.optics.phase import rayleigh_phase
     from planetviz.reference import optical_depth
     from planetviz.tables.evaluator import phased_scattering
-    from planetviz.tables.multiple import multiple_scattering
+    from planetviz.tables.multiple import first_two_orders
     mars = load_atmosphere("mars")
     R = mars.bottom_radius_m
     sizes = QUALITY["standard"]
@@ -217,7 +217,7 @@ def test_first_two_orders_inside_an_optically_thick_large_planet():
     # that do not follow the optical depth.
     from conftest import REFERENCE_DATA
     from planetviz.reference.stored import stored_reference
-    from planetviz.tables.multiple import multiple_scattering
+    from planetviz.tables.multiple import first_two_orders
     from planetviz.tables.precompute import sizes_for
     from planetviz.validation import CAMERAS, rays
     from planetviz.validation.random_suite import random_atmosphere
@@ -225,10 +225,7 @@ def test_first_two_orders_inside_an_optically_thick_large_planet():
     atm = random_atmosphere(seed)
     sizes = sizes_for(atm, QUALITY["standard"])
     tables = precompute(atm, QUALITY["standard"])
-    ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
-                                                    samples=sizes.multiple_samples, tolerance=0.0, max_orders=2)
-    two = replace(tables, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32),
-                  irradiance=irradiance.astype(np.float32))
+    two = first_two_orders(tables, atm, sizes)
     cams, views, suns = (np.concatenate(x) for x in zip(*[rays(atm, seed, c, "day", n=2) for c in CAMERAS]))
     ref = stored_reference(REFERENCE_DATA / "orders", f"random-{seed}-day", atm, cams, views, suns, samples=16384,
                            seed=seed + 11, max_order=2)

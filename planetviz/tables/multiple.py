@@ -35,6 +35,8 @@ up to ``max_orders``).
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from .lookup import (EMPTY_RAY_OPACITY, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
@@ -445,3 +447,15 @@ class _DensityKernels:
             J[..., W + w] = self.beta_m[w] * np.einsum("abcdk,adk->abcd", self.mie_kernels[w], L[..., w]) \
                 / self.forward_j[..., w]
         return J
+
+
+def first_two_orders(tables, atm, sizes, directions=None):
+    """``tables`` (a :class:`~planetviz.tables.precompute.Tables`) with their multiple-scattering tables holding
+    order 2 only and their sky irradiance that of order 1: the multiple-scattering stage stopped after order 2,
+    with ``sizes`` (the :class:`~planetviz.tables.precompute.TableSizes` the tables were made with) and the
+    scattering density's direction quadrature ``directions`` (n_theta, n_phi; default ``sizes.directions``). What
+    the reference's ``max_order=2`` is compared with (benchmarks/tables_orders.py)."""
+    ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *(directions or sizes.directions),
+                                                    samples=sizes.multiple_samples, tolerance=0.0, max_orders=2)
+    return replace(tables, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32),
+                   irradiance=irradiance.astype(np.float32))
