@@ -52,7 +52,7 @@ def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along
     # ray: the integration along the rays must have converged to 2% (it is not the tables' main error there:
     # the direction quadrature is, docs/tables.md). Measured: 0.2% / 0.3% / 0.2% at 680 / 550 / 440 nm with
     # the long rays' doubled nodes; -0.7% / +3.8% / +11.3% with 8 nodes on every ray, which fails.
-    from planetviz.tables.multiple import first_two_orders
+    from planetviz.tables.multiple import multiple_scattering
     sizes = QUALITY["standard"]
     cam = np.array([0.0, 0.0, B + 1e6])
     mu = -np.sqrt(1.0 - ((B + 1e4) / (B + 1e6)) ** 2)
@@ -78,7 +78,7 @@ def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_sing
     # the horizontal from 1 km next to the nadir texel (where every nu slice is the same geometry, and the
     # particles' density divided by F(nu) there was multiplied back by F(0.97), ~20x larger): +143% / +54% /
     # +13%, which fails. Bound 10%: the stage's own direction quadrature and grid (10x10, 4x32x64x8).
-    from planetviz.tables.multiple import first_two_orders
+    from planetviz.tables.multiple import multiple_scattering
     sizes = QUALITY["standard"]
     kw = dict(samples=sizes.multiple_samples, tolerance=0.0)
     s2, s2_mie, e1, _ = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
@@ -166,7 +166,7 @@ def test_second_order_under_a_sharp_forward_lobe_matches_a_direct_integration():
     from planetviz.model.optics.phase import rayleigh_phase
     from planetviz.reference import optical_depth
     from planetviz.tables.evaluator import phased_scattering
-    from planetviz.tables.multiple import first_two_orders
+    from planetviz.tables.multiple import multiple_scattering
     mars = load_atmosphere("mars")
     R = mars.bottom_radius_m
     sizes = QUALITY["standard"]
