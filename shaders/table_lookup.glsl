@@ -17,6 +17,7 @@
 //                                          - 1) (NumPy: the tables' r_axis, planetviz/tables/parameterization.py)
 //   multiple_row_1_rho          float  rho [m] of the multiple-scattering tables' first row above the ground
 //   optical_depth_texture       sampler2D  tau(r, mu) to the top; x: mu, y: r, the G groups stacked along y
+//   scattering_share_texture    sampler2D  the share of 1 - T(r, mu) to the top that scatters; the same layout
 //   irradiance_texture          sampler2D  indirect irradiance E(r, mu_s); x: mu_s, y: r, groups along y
 //   single_rayleigh_texture     sampler3D  S_R(r, mu, mu_s, nu); x: nu slices of mu_s, y: mu, z: r, groups along z
 //                                          (x one column wider, unread, where n_nu n_mu_s is a power of two:
@@ -33,6 +34,7 @@ uniform vec4 multiple_size;
 uniform float r_axis[R_AXIS_KNOTS];
 uniform float multiple_row_1_rho;
 uniform sampler2D optical_depth_texture;
+uniform sampler2D scattering_share_texture;
 uniform sampler2D irradiance_texture;
 uniform sampler3D single_rayleigh_texture;
 uniform sampler3D single_mie_texture;
@@ -62,6 +64,11 @@ vec4 texture_group(sampler2D table, vec2 uv, int g) {
 vec4 get_optical_depth_to_top_atmosphere_boundary(float a, float mu, int g) {
     return texture_group(optical_depth_texture, transmittance_uv_from_r_mu(a, mu), g)
         * distance_to_top_atmosphere_boundary(a, mu);
+}
+
+// The share of the opacity 1 - T of the ray to the top that scatters, int beta_scat T dt / (1 - T).
+vec4 get_scattering_share(float a, float mu, int g) {
+    return texture_group(scattering_share_texture, transmittance_uv_from_r_mu(a, mu), g);
 }
 
 vec4 get_transmittance_to_top_atmosphere_boundary(float a, float mu, int g) {
@@ -294,11 +301,12 @@ vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, flo
     return mix(ratio, vec4(k), lessThanEqual(tau_1, vec4(0.0))) / f;
 }
 
-// 1 - T of a ray (a, mu) that leaves through the top of the atmosphere, 1 for a ray to the ground: the tables' sky
-// half holds S / (1 - T) and get_scattering multiplies it back (NumPy: ray_opacity, whose docstring says why).
+// The scattering opacity int beta_scat T dt = s (1 - T) of a ray (a, mu) that leaves through the top of the
+// atmosphere, 1 for a ray to the ground: the tables' sky half holds S over it and get_scattering multiplies it back
+// (NumPy: ray_opacity, whose docstring says why).
 vec4 ray_opacity(float a, float mu, bool intersects_ground, int g) {
     if (intersects_ground) return vec4(1.0);
-    return one_minus_exp(get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
+    return get_scattering_share(a, mu, g) * one_minus_exp(get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
 }
 
 // The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel

@@ -32,8 +32,8 @@ CHANGES = [
     ("ground albedo", (("ground_albedo",), [0.1, 0.2, 0.3]), ["multiple_scattering"]),
     ("Mie phase g1", (("mie", "phase", "g1"), [0.7, 0.7, 0.7]), ["multiple_scattering"]),
     ("Rayleigh phase", (("rayleigh", "phase"), "penndorf"), ["multiple_scattering"]),
-    ("Mie scattering (same extinction)", (("mie", "scattering_m"), [3e-6, 3e-6, 3e-6]),
-     ["single_scattering", "multiple_scattering"]),
+    ("Mie scattering (same extinction: the transmittance stage's scattering share changes)",
+     (("mie", "scattering_m"), [3e-6, 3e-6, 3e-6]), ALL),
     ("Rayleigh scale height", (("rayleigh", "profile", "scale_height_m"), 8500.0), ALL),
     ("absorption coefficient", (("absorption", 0, "extinction_m"), [7e-7, 2e-6, 1e-7]), ALL),
 ]

@@ -19,7 +19,8 @@ from planetviz.tables.inscatter_factor import (IRRADIANCE_SUBROWS, PATH_OPACITY_
                                                irradiance_row_index, irradiance_rows, path_opacity_altitude,
                                                path_opacity_rays, path_opacity_table, path_opacity_u,
                                                path_scattering_share, phase_factor_table, phase_factor_u,
-                                               scattering_share, share_holds, sky_irradiance_rows)
+                                               SCATTERING_SHARE_NODES, share_holds, sky_irradiance_rows)
+from planetviz.tables.nodes import scattering_share
 from planetviz.tables.lookup import (get_irradiance, get_optical_depth, get_optical_depth_to_top_atmosphere_boundary,
                                      one_minus_exp)
 from planetviz.tables.parameterization import MU_S_MIN
@@ -195,7 +196,7 @@ def test_the_scattering_share_is_one_where_nothing_absorbs(a):
     # the quadrature's cells, whatever the nodes (their transmittance steps telescope): a share of 1 to rounding.
     earth = load_atmosphere("earth")
     atm = earth.replace(absorption=(), mie=dataclasses.replace(earth.mie, extinction_m=earth.mie.scattering_m))
-    share = scattering_share(atm, *share_rays(atm, a))
+    share = scattering_share(atm, *share_rays(atm, a), SCATTERING_SHARE_NODES)
     np.testing.assert_allclose(share, 1.0, rtol=0.0, atol=1e-12)
 
 
@@ -213,7 +214,7 @@ def test_the_scattering_share_is_the_integral_of_the_scattering_along_the_ray(na
     # the ray misses by that much.
     atm = load_atmosphere("earth") if name == "earth" else random_atmosphere(int(name.split("-")[1]))
     rays = share_rays(atm, a)
-    np.testing.assert_allclose(scattering_share(atm, *rays), integrated_scattering_share(atm, *rays),
+    np.testing.assert_allclose(scattering_share(atm, *rays, SCATTERING_SHARE_NODES), integrated_scattering_share(atm, *rays),
                                rtol=SHARE_TOLERANCE)
 
 
@@ -225,7 +226,7 @@ def test_the_path_scattering_share_reads_as_the_share_of_each_texel():
     atm, t = load_atmosphere("earth"), draft_earth_tables()
     for a in (2.0, 3e4, t.top - t.bottom):
         mu, d, _ = path_opacity_rays(a, t.bottom, t.top)
-        share = scattering_share(atm, np.full(mu.shape, t.bottom + a), mu, d)
+        share = scattering_share(atm, np.full(mu.shape, t.bottom + a), mu, d, SCATTERING_SHARE_NODES)
         table = path_scattering_share(t, atm, a)
         np.testing.assert_allclose(table, share, rtol=SHARE_TOLERANCE)
         np.testing.assert_allclose(path_scattering_share(t, atm, a, wavelengths=slice(1, 3)), table[:, 1:3],

@@ -202,7 +202,8 @@ def _cmd_precompute(args) -> int:
         how = "computed" if stage in tables.computed else "from the cache"
         print(f"{stage:<22} {seconds:8.2f} s   {how}")
     print(f"{'total':<22} {sum(tables.timings.values()):8.2f} s   ({tables.orders} scattering orders)")
-    sizes = {"transmittance": tables.optical_depth, "irradiance": tables.irradiance,
+    sizes = {"transmittance": tables.optical_depth, "scattering share": tables.scattering_share,
+             "irradiance": tables.irradiance,
              "single Rayleigh": tables.rayleigh, "single Mie": tables.mie, "multiple": tables.multiple}
     for name, table in sizes.items():
         print(f"{name:<22} {str(table.shape):<26} {table.nbytes / 1e6:8.2f} MB")

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 #: Bump when the content or layout of any table changes: older files are then recomputed.
-FORMAT_VERSION = 25
+FORMAT_VERSION = 26
 
 def default_directory() -> Path:
     return Path(os.environ.get("PLANETVIZ_CACHE") or Path.home() / ".cache" / "planetviz")
@@ -50,12 +50,13 @@ def stage_parameters(atm, sizes) -> dict:
         "bottom_radius_m": d["bottom_radius_m"], "top_radius_m": d["top_radius_m"],
         "wavelengths_nm": d["wavelengths_nm"],
         "rayleigh": {"scattering_m": d["rayleigh"]["scattering_m"], "profile": d["rayleigh"]["profile"]},
-        "mie": {"extinction_m": d["mie"]["extinction_m"], "profile": d["mie"]["profile"]},
+        "mie": {"extinction_m": d["mie"]["extinction_m"], "scattering_m": d["mie"]["scattering_m"],
+                "profile": d["mie"]["profile"]},
         "absorption": d["absorption"],
     }
     t = {"atmosphere": extinction,
          "sizes": {"transmittance": list(sizes.transmittance), "samples": sizes.transmittance_samples}}
-    s = {"transmittance": t, "mie_scattering_m": d["mie"]["scattering_m"],
+    s = {"transmittance": t,
          "sizes": {"scattering": list(sizes.scattering), "samples": sizes.scattering_samples}}
     m = {"single_scattering": s, "rayleigh_phase": d["rayleigh"]["phase"], "mie_phase": d["mie"]["phase"],
          "ground_albedo": d["ground_albedo"],

@@ -3,7 +3,7 @@ the GLSL twins of :func:`path_opacity_u` and :func:`phase_factor_u`): the opacit
 every view ray from the frame's ray altitude, the phase functions, and the sky's irradiance on the ground.
 
 **Path opacity.** The opacity 1 - T of every view ray from one altitude, and the share of it that scatters light
-(:func:`scattering_share`): their product, the integral of beta_scat T along the ray, is what the inscatter grows
+(``nodes.scattering_share``): their product, the integral of beta_scat T along the ray, is what the inscatter grows
 with along the limb's halo and toward the horizon, where an absorbing layer (ozone) raises the opacity and not the
 inscatter.
 
@@ -44,7 +44,7 @@ import numpy as np
 
 from .lookup import get_irradiance, get_optical_depth, get_optical_depth_to_top_atmosphere_boundary, one_minus_exp
 from .multiple import forward_factor
-from .nodes import altitude, ray_nodes
+from .nodes import scattering_share
 from .parameterization import (MU_S_MIN, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, safe_sqrt, texcoord_from_unit_range,
                                unit_range_from_texcoord)
@@ -53,7 +53,7 @@ from .parameterization import (MU_S_MIN, distance_to_bottom_atmosphere_boundary,
 PATH_OPACITY_TEXELS = 1024
 #: Texels of the phase table along u (module docstring), 0 .. 1.
 PHASE_FACTOR_TEXELS = 1024
-#: Gauss-Legendre nodes per side of a ray's closest approach for :func:`scattering_share`.
+#: Gauss-Legendre nodes per side of a ray's closest approach for ``nodes.scattering_share``.
 SCATTERING_SHARE_NODES = 48
 #: Texels of the path-opacity table between those whose scattering share is computed.
 SCATTERING_SHARE_STRIDE = 8
@@ -114,38 +114,8 @@ def path_opacity_table(tables, a, n=PATH_OPACITY_TEXELS):
     return one_minus_exp(tau)
 
 
-def scattering_share(atm, r, mu, d, wavelengths=None, n=SCATTERING_SHARE_NODES):
-    """(N, W') the share of the opacity of each ray (r, mu) of length d [m] that scatters light back into it:
-    sum_k omega(t_k) [T(0, t_k^-) - T(0, t_k^+)] / (1 - T(0, d)), over the cells of the quadrature nodes t_k
-    (``ray_nodes``, n per side of the closest approach, in the order of t), omega = beta^scat / beta^ext at the node,
-    T from the optical depth summed over the cells before. The single scattering of a uniform, isotropic source
-    along the ray, integral of beta^scat T dt, is this share times the opacity 1 - T, exactly so where omega is the
-    same over each cell whatever their optical depths (1 where nothing absorbs); an absorbing layer (ozone) lowers
-    it for the rays through it and leaves the rays in front of it alone. ``wavelengths``: a slice of the
-    atmosphere's wavelengths (W' of them; default all)."""
-    wavelengths = slice(None) if wavelengths is None else wavelengths
-    t, w = ray_nodes(r, mu, d, n)
-    order = np.argsort(t, axis=-1)
-    t, w = np.take_along_axis(t, order, -1), np.take_along_axis(w, order, -1)
-    h = altitude(np.asarray(r, float)[..., None], np.asarray(mu, float)[..., None], t, atm.bottom_radius_m)
-    components = atm.components()
-    density = np.stack([profile.density(h) for _, _, profile in components], axis=-1)       # (N, K, C)
-    extinction = density @ np.stack([beta_ext[wavelengths] for _, beta_ext, _ in components])  # (N, K, W')
-    scattering = density @ np.stack([beta_scat[wavelengths] for beta_scat, _, _ in components])
-    tau_cell = w[..., None] * extinction
-    transmittance = np.exp(-np.cumsum(tau_cell, axis=-2))                   # after each cell
-    before = np.concatenate([np.ones_like(transmittance[..., :1, :]), transmittance[..., :-1, :]], axis=-2)
-    albedo = scattering / np.maximum(extinction, 1e-300)
-    opacity = 1.0 - transmittance[..., -1, :]
-    # Below an opacity of 1e-4 the cells' transmittance steps lose digits; there the share is the albedo weighted
-    # by optical depth, its limit, to O(opacity).
-    thin = np.sum(w[..., None] * scattering, axis=-2) / np.maximum(np.sum(tau_cell, axis=-2), 1e-300)
-    thick = np.sum(albedo * (before - transmittance), axis=-2) / np.maximum(opacity, 1e-300)
-    return np.where(opacity > 1e-4, thick, np.where(np.sum(tau_cell, axis=-2) > 0.0, thin, albedo[..., 0, :]))
-
-
 def path_scattering_share(tables, atm, a, n=PATH_OPACITY_TEXELS, wavelengths=None):
-    """(2n, W') the :func:`scattering_share` of the rays of :func:`path_opacity_table` from altitude a [m]; times
+    """(2n, W') the ``nodes.scattering_share`` of the rays of :func:`path_opacity_table` from altitude a [m]; times
     their opacity, the factor of the per-vertex inscatter (an absorbing layer raises a ray's opacity, not its
     inscatter). The share changes over the absorbing layers' scale rather than the optical depth's: it is computed
     on every SCATTERING_SHARE_STRIDE-th texel of each half and read linearly between them. ``wavelengths``: a
@@ -154,7 +124,8 @@ def path_scattering_share(tables, atm, a, n=PATH_OPACITY_TEXELS, wavelengths=Non
     mu, d, _ = path_opacity_rays(a, tables.bottom, tables.top, n)
     coarse = np.concatenate([np.arange(0, n, SCATTERING_SHARE_STRIDE), [n - 1]])
     rays = np.concatenate([coarse, n + coarse])
-    coarse_share = scattering_share(atm, np.full(rays.shape, tables.bottom + a), mu[rays], d[rays], wavelengths)
+    coarse_share = scattering_share(atm, np.full(rays.shape, tables.bottom + a), mu[rays], d[rays],
+                                    SCATTERING_SHARE_NODES, wavelengths)
     share = np.empty((2 * n, coarse_share.shape[-1]))
     for half, values in ((slice(0, n), coarse_share[:len(coarse)]), (slice(n, 2 * n), coarse_share[len(coarse):])):
         for w in range(share.shape[-1]):

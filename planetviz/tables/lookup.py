@@ -36,6 +36,15 @@ def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):
     return texture2d(t.optical_depth, u, v) * d[..., None]
 
 
+def get_scattering_share(t, r, mu):
+    """The share of the opacity 1 - T of the ray (r, mu) to the top of the atmosphere that scatters (the ray must
+    not hit the ground; ``precompute.scattering_share_to_top``), read bilinearly from its table on the
+    transmittance table's grid."""
+    n_r, n_mu = t.scattering_share.shape[:2]
+    u, v = transmittance_uv_from_r_mu(r, mu, t.bottom, t.top, (n_mu, n_r))
+    return texture2d(t.scattering_share, u, v)
+
+
 def get_transmittance_to_top_atmosphere_boundary(t, r, mu):
     """T between (r, mu) and the top of the atmosphere (the ray must not hit the ground)."""
     return np.exp(-get_optical_depth_to_top_atmosphere_boundary(t, r, mu))
@@ -89,25 +98,34 @@ def one_minus_exp(x):
 
 
 def ray_opacity(t, r, mu, intersects_ground):
-    """1 - T (..., W) for rays (r, mu) that leave through the top of the atmosphere, T their transmittance to it;
-    1 for rays that hit the ground: what the 4D scattering tables are divided by at their texels and multiplied
-    by again on every read (:func:`get_scattering`, :class:`ScatteringStencil`; the GLSL twin of the same name).
+    """The scattering opacity (..., W) of rays (r, mu) that leave through the top of the atmosphere,
+    int_0^d beta^scat T dt = s (1 - T) with T their transmittance to the top and s the share of 1 - T that
+    scatters (:func:`get_scattering_share`); 1 for rays that hit the ground: what the 4D scattering tables are
+    divided by at their texels and multiplied by again on every read (:func:`get_scattering`,
+    :class:`ScatteringStencil`; the GLSL twin of the same name). Dimensionless.
 
-    In-scattered light along a ray is S = int J T dt = (1 - T) <J / beta>, the source function J / beta
-    averaged along the ray with the weights beta T dt / (1 - T): the sky half of the tables holds that mean,
-    which changes slowly with the ray, while S itself follows the ray's length and optical depth. Next to the
-    top of the atmosphere S goes to 0 with the column of air above the camera, a convex fall that linear
-    interpolation between r rows 3.8 km apart (the Earth's single scattering at standard; 17 km for its
-    multiple scattering) read 26-29% high from 1-100 m under the top looking up, and 19-24% high looking
-    horizontally, where the texels at the same u_mu of the two rows hold rays of other lengths
-    (``benchmarks/top_rows.py``, single scattering against the reference quadrature): within 0.2% with the mean.
+    In-scattered light along a ray is S = int J T dt = int (J / beta^scat) beta^scat T dt, so the sky half of the
+    tables holds <J / beta^scat>, the source function per unit scattering coefficient (the phase-weighted
+    radiance arriving at the scattering points) averaged along the ray with the weights beta^scat T dt, which
+    changes slowly with the ray, while S itself follows the ray's length and optical depth. Next to the top of
+    the atmosphere S goes to 0 with the column of air above the camera, a convex fall that linear interpolation
+    between r rows 3.8 km apart (the Earth's single scattering at standard; 17 km for its multiple scattering)
+    read 26-29% high from 1-100 m under the top looking up, and 19-24% high looking horizontally, where the
+    texels at the same u_mu of the two rows hold rays of other lengths (``benchmarks/top_rows.py``, single
+    scattering against the reference quadrature): within 0.2% with the mean. The weights are the scattering's,
+    not the extinction's (1 - T = int beta T dt): inside an absorbing layer the mean over the extinction is the
+    single-scattering albedo times the light, above it the light, and rows on either side of the layer's edge
+    (the Earth's ozone at 24 and 37 km, the standard multiple-scattering rows) held values that differ by the
+    albedo, which linear interpolation between them read up to 22% off from 30-40 km; the mean over the
+    scattering is the light on both sides (docs/tables.md).
 
     Ground rays keep S (and :func:`ground_row_factor` for cameras below the first row): their 1 - T for short
     rays from near the ground is the difference of two readings of long upward rays at rows of very different
     altitude spacing (the rows are dense near the ground), off by several times its value 0.2 m up."""
     r, mu, ground = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(intersects_ground))
-    tau = get_optical_depth_to_top_atmosphere_boundary(t, r, np.where(ground, 0.0, mu))
-    return np.where(ground[..., None], 1.0, one_minus_exp(tau))
+    mu_sky = np.where(ground, 0.0, mu)
+    tau = get_optical_depth_to_top_atmosphere_boundary(t, r, mu_sky)
+    return np.where(ground[..., None], 1.0, get_scattering_share(t, r, mu_sky) * one_minus_exp(tau))
 
 
 def first_row_rho(t, n_r):

@@ -89,6 +89,36 @@ def altitude(r, mu, t, bottom):
     return np.sqrt(np.maximum(t * t + 2.0 * r * mu * t + r * r, 0.0)) - bottom
 
 
+def scattering_share(atm, r, mu, d, n, wavelengths=None):
+    """(N, W') the share of the opacity of each ray (r, mu) of length d [m] that scatters light back into it:
+    sum_k omega(t_k) [T(0, t_k^-) - T(0, t_k^+)] / (1 - T(0, d)), over the cells of the quadrature nodes t_k
+    (:func:`ray_nodes`, n per side of the closest approach, in the order of t), omega = beta^scat / beta^ext at the node,
+    T from the optical depth summed over the cells before. The single scattering of a uniform, isotropic source
+    along the ray, integral of beta^scat T dt, is this share times the opacity 1 - T, exactly so where omega is the
+    same over each cell whatever their optical depths (1 where nothing absorbs); an absorbing layer (ozone) lowers
+    it for the rays through it and leaves the rays in front of it alone. ``wavelengths``: a slice of the
+    atmosphere's wavelengths (W' of them; default all)."""
+    wavelengths = slice(None) if wavelengths is None else wavelengths
+    t, w = ray_nodes(r, mu, d, n)
+    order = np.argsort(t, axis=-1)
+    t, w = np.take_along_axis(t, order, -1), np.take_along_axis(w, order, -1)
+    h = altitude(np.asarray(r, float)[..., None], np.asarray(mu, float)[..., None], t, atm.bottom_radius_m)
+    components = atm.components()
+    density = np.stack([profile.density(h) for _, _, profile in components], axis=-1)       # (N, K, C)
+    extinction = density @ np.stack([beta_ext[wavelengths] for _, beta_ext, _ in components])  # (N, K, W')
+    scattering = density @ np.stack([beta_scat[wavelengths] for beta_scat, _, _ in components])
+    tau_cell = w[..., None] * extinction
+    transmittance = np.exp(-np.cumsum(tau_cell, axis=-2))                   # after each cell
+    before = np.concatenate([np.ones_like(transmittance[..., :1, :]), transmittance[..., :-1, :]], axis=-2)
+    albedo = scattering / np.maximum(extinction, 1e-300)
+    opacity = 1.0 - transmittance[..., -1, :]
+    # Below an opacity of 1e-4 the cells' transmittance steps lose digits; there the share is the albedo weighted
+    # by optical depth, its limit, to O(opacity).
+    thin = np.sum(w[..., None] * scattering, axis=-2) / np.maximum(np.sum(tau_cell, axis=-2), 1e-300)
+    thick = np.sum(albedo * (before - transmittance), axis=-2) / np.maximum(opacity, 1e-300)
+    return np.where(opacity > 1e-4, thick, np.where(np.sum(tau_cell, axis=-2) > 0.0, thin, albedo[..., 0, :]))
+
+
 def scattering_grid(tables, size=None):
     """(r, mu, mu_s, nu, intersects_ground) at the texel centres, each (n_r, n_mu, n_nu, n_mu_s), of a table
     of ``size`` (default ``tables.sizes.scattering``) between ``tables.bottom`` and ``tables.top``."""

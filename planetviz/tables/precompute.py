@@ -7,9 +7,10 @@ Stages (each a function of the atmosphere and the table sizes):
    (t = t_c +- span u^2). The table stores the mean extinction tau / d along the ray, not T: in a thick
    atmosphere T to the top underflows float32 near the horizon (tau of several hundred), and T(x, y) as a
    ratio of two such T is 0 / 0, while a difference of optical depths keeps its precision; tau / d stays
-   smooth next to the top, where tau falls to 0.
+   smooth next to the top, where tau falls to 0. Beside it, on the same rays, the share of the opacity 1 - T
+   that scatters, int_0^d beta^scat T dt / (1 - T) (1 where nothing absorbs).
 2. ``single_scattering``  S_R,1 and S_M,1 (r, mu, mu_s, nu) = int_0^d beta_i^scat(h_t) T(x, x_t) T_sun(x_t) dt,
-   divided by the ray's opacity 1 - T(x, x_d) (``lookup.ray_opacity``), kept apart and without phase (applied
+   divided by the ray's scattering opacity (``lookup.ray_opacity``), kept apart and without phase (applied
    at render time, Mie per wavelength with its DHG). The view transmittance and density depend on (r, mu, t)
    only; only T_sun(r_t, mu_s,t) with mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
 3. ``multiple_scattering`` (tables/multiple.py): orders >= 2 and the indirect irradiance.
@@ -17,7 +18,7 @@ Stages (each a function of the atmosphere and the table sizes):
 The sun's direct irradiance E_0 = T_sun max(mu_s, 0) (point sun) is not tabulated: it is read from the
 transmittance table where needed.
 
-Radiance is per unit solar irradiance; tables are float32: optical depth (n_r, n_mu, W), irradiance
+Radiance is per unit solar irradiance; tables are float32: optical depth and scattering share (n_r, n_mu, W), irradiance
 (n_r, n_mu_s, W), scattering (n_r, n_mu, n_nu, n_mu_s, W), which is the 3D texture (n_r, n_mu,
 n_nu * n_mu_s) the shader samples.
 """
@@ -32,7 +33,7 @@ from .cache import parameters_hash, stage_parameters
 from .lookup import SMALLEST, get_transmittance, get_transmittance_to_sun, ray_opacity
 from .multiple import multiple_scattering
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, altitude, integration_grid, is_optically_thick, ray_nodes,
-                    texel_centres)
+                    scattering_share, texel_centres)
 from .parameterization import distance_to_top_atmosphere_boundary, r_axis, r_mu_from_transmittance_uv
 from .validated import FORWARD_LOBE_G, strongest_forward_lobe
 
@@ -78,6 +79,7 @@ class Tables:
     mie: np.ndarray
     multiple: np.ndarray | None = None
     multiple_mie: np.ndarray | None = None
+    scattering_share: np.ndarray | None = None   # (n_r, n_mu, W) on the transmittance table's grid
     r_axis: np.ndarray | None = None     # the 4D tables' r axis (parameterization.r_axis); None: rho / H
     timings: dict = field(default_factory=dict)
     orders: int = 1
@@ -85,7 +87,8 @@ class Tables:
 
     @property
     def nbytes(self) -> int:
-        tables = (self.optical_depth, self.irradiance, self.rayleigh, self.mie, self.multiple, self.multiple_mie)
+        tables = (self.optical_depth, self.scattering_share, self.irradiance, self.rayleigh, self.mie, self.multiple,
+                  self.multiple_mie)
         return sum(a.nbytes for a in tables if a is not None)
 
 
@@ -115,11 +118,10 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r))
 
 
-def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
-    """The mean extinction tau(r, mu) / d along the ray to the top of the atmosphere (T = exp(-tau), d the ray's
-    length; ``lookup.get_optical_depth_to_top_atmosphere_boundary`` says why), shape (n_r, n_mu, W). The top
-    row's ray next to the zenith has d = 0: its mean is taken over the ray up from ``nodes.ZERO_RAY_LENGTH``
-    times the thickness below the top."""
+def transmittance_rays(atm, sizes: TableSizes):
+    """(r, mu, d), each (n_r, n_mu): the rays to the top of the atmosphere at the transmittance table's texel
+    centres, d their length. The top row's ray next to the zenith has d = 0: it stands for the ray up from
+    ``nodes.ZERO_RAY_LENGTH`` times the thickness below the top."""
     n_mu, n_r = sizes.transmittance
     u, v = np.meshgrid(texel_centres(n_mu), texel_centres(n_r))
     r, mu = r_mu_from_transmittance_uv(u, v, atm.bottom_radius_m, atm.top_radius_m, (n_mu, n_r))
@@ -128,9 +130,25 @@ def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
     r = np.where(zero, atm.top_radius_m - ZERO_RAY_LENGTH * atm.thickness_m, r)
     mu = np.where(zero, 1.0, mu)
     d = np.where(zero, atm.top_radius_m - r, d)
+    return r, mu, d
+
+
+def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
+    """The mean extinction tau(r, mu) / d along the ray to the top of the atmosphere (T = exp(-tau), d the ray's
+    length; ``lookup.get_optical_depth_to_top_atmosphere_boundary`` says why), shape (n_r, n_mu, W), on
+    :func:`transmittance_rays`."""
+    r, mu, d = transmittance_rays(atm, sizes)
     t, w = ray_nodes(r, mu, d, sizes.transmittance_samples)
     ext = atm.extinction(altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
     return np.einsum("...k,...kw->...w", w, ext) / d[..., None]
+
+
+def scattering_share_to_top(atm, sizes: TableSizes) -> np.ndarray:
+    """The share of the opacity 1 - T of the ray to the top of the atmosphere that scatters (``nodes.scattering_share``:
+    int_0^d beta^scat T dt / (1 - T), dimensionless, in [0, 1]), shape (n_r, n_mu, W), on :func:`transmittance_rays`;
+    times the opacity, the scattering opacity that the 4D tables' sky half is divided by (``lookup.ray_opacity``)."""
+    r, mu, d = transmittance_rays(atm, sizes)
+    return scattering_share(atm, r, mu, d, sizes.transmittance_samples)
 
 
 def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
@@ -210,7 +228,7 @@ def stage_shapes(sizes: TableSizes, n_wavelengths: int) -> dict:
     n_nu, n_mu_s, n_mu, n_r = sizes.scattering
     n_mu_t, n_r_t = sizes.transmittance
     m_nu, m_mu_s, m_mu, m_r = sizes.multiple
-    return {"transmittance": {"optical_depth": (n_r_t, n_mu_t, W)},
+    return {"transmittance": {"optical_depth": (n_r_t, n_mu_t, W), "scattering_share": (n_r_t, n_mu_t, W)},
             "single_scattering": {"rayleigh": (n_r, n_mu, n_nu, n_mu_s, W), "mie": (n_r, n_mu, n_nu, n_mu_s, W)},
             "multiple_scattering": {"multiple": (m_r, m_mu, m_nu, m_mu_s, W),
                                     "multiple_mie": (m_r, m_mu, m_nu, m_mu_s, W),
@@ -268,7 +286,7 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     that ran. ``progress(stage, fraction)`` is called as the stages advance (for a progress bar). The steps:
 
     1. the sizes for this atmosphere (:func:`sizes_for`);
-    2. the optical depth to the top of the atmosphere, T(r, mu);
+    2. the optical depth to the top of the atmosphere, T(r, mu), and the share of 1 - T that scatters;
     3. single scattering, Rayleigh and Mie, S(r, mu, mu_s, nu), read through the transmittance table;
     4. the orders above the first and the ground irradiance, until they converge (``multiple``; else zeros).
 
@@ -283,9 +301,11 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     sizes = sizes_for(atm, sizes)
     stages = _Stages(atm, sizes, cache, progress)
     shapes = stages.shapes["multiple_scattering"]
-    tau = stages.run("transmittance", lambda: ({"optical_depth": optical_depth_to_top(atm, sizes)}, {}))
+    tau = stages.run("transmittance", lambda: ({"optical_depth": optical_depth_to_top(atm, sizes),
+                                                 "scattering_share": scattering_share_to_top(atm, sizes)}, {}))
     tables = Tables(atm.bottom_radius_m, atm.top_radius_m, sizes, tau["optical_depth"],
                     np.zeros(shapes["irradiance"], np.float32), np.empty(0), np.empty(0),
+                    scattering_share=tau["scattering_share"],
                     r_axis=r_axis(atm.bottom_radius_m, atm.top_radius_m, atm.extinction))
     single = stages.run("single_scattering",
                         lambda: (dict(zip(("rayleigh", "mie"), single_scattering(tables, atm, progress))), {}))
