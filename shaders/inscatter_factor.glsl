@@ -7,7 +7,7 @@
 // - path opacity: the scattering opacity of the ray from x to where it leaves the atmosphere or meets the ground,
 //   the integral of beta_scat T along it (its opacity 1 - T times the share of that opacity which scatters; averaged
 //   over the first output group's wavelengths): along the limb's halo, the horizon and the aerial perspective the
-//   inscatter grows with it (the tables' sky half holds S / (1 - T) for the same reason, table_lookup.glsl
+//   inscatter grows with it (the tables' sky half holds S over it for the same reason, table_lookup.glsl
 //   ray_opacity), while an absorbing layer (ozone) raises 1 - T and not the inscatter. Every ray of the frame starts
 //   at the same altitude, so it is read from a 1D table of mu made for that altitude on the CPU
 //   (planetviz/tables/inscatter_factor.py), beside the ray's opacity 1 - T for the ground's light: one fetch

@@ -15,18 +15,19 @@ from planetviz import load_atmosphere
 from planetviz.reference.optical_depth import optical_depth
 from planetviz.tables import QUALITY, precompute
 from planetviz.tables.inscatter_factor import (IRRADIANCE_SUBROWS, PATH_OPACITY_TEXELS, PHASE_FACTOR_TEXELS,
-                                               SHARE_ALTITUDE_STEP,
+                                               SCATTERING_SHARE_NODES, SHARE_ALTITUDE_STEP,
                                                irradiance_row_index, irradiance_rows, path_opacity_altitude,
                                                path_opacity_rays, path_opacity_table, path_opacity_u,
                                                path_scattering_share, phase_factor_table, phase_factor_u,
-                                               SCATTERING_SHARE_NODES, share_holds, sky_irradiance_rows)
-from planetviz.tables.nodes import scattering_share
+                                               share_holds, sky_irradiance_rows)
 from planetviz.tables.lookup import (get_irradiance, get_optical_depth, get_optical_depth_to_top_atmosphere_boundary,
-                                     one_minus_exp)
+                                     one_minus_exp, ray_opacity)
 from planetviz.tables.parameterization import MU_S_MIN
 from planetviz.tables.multiple import forward_factor
-from planetviz.tables.nodes import altitude
-from planetviz.tables.parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
+from planetviz.tables.nodes import altitude, scattering_share
+from planetviz.tables.precompute import transmittance_rays
+from planetviz.tables.parameterization import (distance_to_bottom_atmosphere_boundary,
+                                               distance_to_top_atmosphere_boundary, ray_intersects_ground)
 from planetviz.validation.random_suite import random_atmosphere
 
 TOLERANCE = 3e-3
@@ -214,8 +215,28 @@ def test_the_scattering_share_is_the_integral_of_the_scattering_along_the_ray(na
     # the ray misses by that much.
     atm = load_atmosphere("earth") if name == "earth" else random_atmosphere(int(name.split("-")[1]))
     rays = share_rays(atm, a)
-    np.testing.assert_allclose(scattering_share(atm, *rays, SCATTERING_SHARE_NODES), integrated_scattering_share(atm, *rays),
-                               rtol=SHARE_TOLERANCE)
+    np.testing.assert_allclose(scattering_share(atm, *rays, SCATTERING_SHARE_NODES),
+                               integrated_scattering_share(atm, *rays), rtol=SHARE_TOLERANCE)
+
+
+@pytest.mark.parametrize("name", ["earth", "random-0", "random-2"])
+def test_ray_opacity_is_the_scattering_opacity_of_the_ray_to_the_top(name):
+    # The 4D tables' sky half holds S over the ray's scattering opacity, the integral of beta_scat T along the ray
+    # to the top (lookup.ray_opacity): at the texel centres of the scattering-share table (standard sizes), where
+    # the read is the stored value, against the trapezoidal integral (error below 1e-4), within the same 3% (the
+    # quadrature's cells hold one albedo each). The opacity 1 - T in its place reads the rays through Earth's ozone
+    # up to 5 times high and those through the random atmospheres' absorbing layers up to 4e5 times, which the last
+    # line checks the test would see.
+    atm = load_atmosphere("earth") if name == "earth" else random_atmosphere(int(name.split("-")[1]))
+    sizes = QUALITY["standard"]
+    t = precompute(atm, dataclasses.replace(sizes, scattering=(2, 4, 8, 4)), multiple=False)
+    r, mu, d = (a.ravel()[::97] for a in transmittance_rays(atm, sizes))          # 169 of the 16,384 texels
+    full = np.abs(d - distance_to_top_atmosphere_boundary(r, mu, atm.top_radius_m)) < 1e-6 * d
+    r, mu, d = r[full], mu[full], d[full]
+    tau = get_optical_depth_to_top_atmosphere_boundary(t, r, mu)
+    exact = integrated_scattering_share(atm, r, mu, d) * one_minus_exp(tau)
+    np.testing.assert_allclose(ray_opacity(t, r, mu, np.zeros(r.shape, bool)), exact, rtol=SHARE_TOLERANCE)
+    assert np.max(one_minus_exp(tau) / exact) > 1.2
 
 
 def test_the_path_scattering_share_reads_as_the_share_of_each_texel():

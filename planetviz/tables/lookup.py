@@ -17,7 +17,8 @@ from .sampling import texture2d
 ZERO_FLOOR = 1e-3
 #: Values are raised to this before their logarithm (the smallest normal float32 is 1.2e-38).
 SMALLEST = 1e-37
-#: A ray whose 1 - T is below this is empty: the mean source function of the multiple-scattering tables is 0 there.
+#: A ray whose scattering opacity (``ray_opacity``) is below this is empty: the multiple-scattering tables'
+#: mean is 0 there.
 EMPTY_RAY_OPACITY = 1e-30
 
 
@@ -281,7 +282,7 @@ class ScatteringStencil:
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None):
     """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) read as the shader reads its 3D texture (n_r, n_mu, n_nu * n_mu_s),
-    times :func:`ray_opacity` (``opacity``, computed here when not given): the tables hold S / (1 - T).
+    times :func:`ray_opacity` (``opacity``, computed here when not given): the tables hold S over it.
 
     Along mu_s and nu the two neighbouring texels are fetched separately (each at its exact texel centre, so
     the hardware interpolates only r and mu: four texture() calls in the shader) and blended geometrically,

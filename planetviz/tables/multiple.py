@@ -233,9 +233,9 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
         stencil, node_weight = _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg, dd,
                                                    n, thick)
         per_opacity = np.concatenate([opacity[rays], opacity[rays]], -1)[:, None, None, None, :]
-        # Where 1 - T is below EMPTY_RAY_OPACITY the ray holds no light a table can show (S < 1e-30 J): its mean
-        # is stored as 0. Dividing there (the weights carry the densities, J the coefficients) overflows float32
-        # and gives inf x 0 = NaN for a component whose coefficient is 0.
+        # Where the scattering opacity is below EMPTY_RAY_OPACITY the ray holds no light a table can show
+        # (S < 1e-30 J): its mean is stored as 0. Dividing there (the weights carry the densities, J the
+        # coefficients) overflows float32 and gives inf x 0 = NaN for a component whose coefficient is 0.
         weight = np.divide(node_weight, per_opacity, out=np.zeros(np.broadcast_shapes(node_weight.shape,
                                                                                      per_opacity.shape)),
                            where=per_opacity > EMPTY_RAY_OPACITY)

@@ -92,8 +92,8 @@ def altitude(r, mu, t, bottom):
 def scattering_share(atm, r, mu, d, n, wavelengths=None):
     """(N, W') the share of the opacity of each ray (r, mu) of length d [m] that scatters light back into it:
     sum_k omega(t_k) [T(0, t_k^-) - T(0, t_k^+)] / (1 - T(0, d)), over the cells of the quadrature nodes t_k
-    (:func:`ray_nodes`, n per side of the closest approach, in the order of t), omega = beta^scat / beta^ext at the node,
-    T from the optical depth summed over the cells before. The single scattering of a uniform, isotropic source
+    (:func:`ray_nodes`, n per side of the closest approach, in the order of t), omega = beta^scat / beta^ext at the
+    node, T from the optical depth summed over the cells before. The single scattering of a uniform, isotropic source
     along the ray, integral of beta^scat T dt, is this share times the opacity 1 - T, exactly so where omega is the
     same over each cell whatever their optical depths (1 where nothing absorbs); an absorbing layer (ozone) lowers
     it for the rays through it and leaves the rays in front of it alone. ``wavelengths``: a slice of the
@@ -143,9 +143,9 @@ def integration_grid(tables, size=None):
     texel centres of :func:`scattering_grid` and each ray's length d to the ground or the top, except the top
     row's sky texels whose ray has zero length (next to the zenith), which are integrated from the same texture
     coordinates (u_nu, u_mu_s, u_mu) of a row ``ZERO_RAY_LENGTH`` times the thickness under the top: the sky
-    half of the tables holds S / (1 - T) (``lookup.ray_opacity``), which for those texels is the limit 0 / 0,
-    the source function at the top, and those rays give it. (The ground row's ground rays, of zero length too,
-    hold S = 0: the ground half is not divided by 1 - T.)"""
+    half of the tables holds S over the ray's scattering opacity (``lookup.ray_opacity``), which for those texels
+    is the limit 0 / 0, the source function at the top, and those rays give it. (The ground row's ground rays, of
+    zero length too, hold S = 0: the ground half is not divided.)"""
     size = tables.sizes.scattering if size is None else size
     n_nu, n_mu_s, n_mu, n_r = size
     r, mu, mu_s, nu, ground = (np.array(a) for a in scattering_grid(tables, size))
