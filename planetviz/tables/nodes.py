@@ -107,16 +107,16 @@ def scattering_share(atm, r, mu, d, n, wavelengths=None):
     density = np.stack([profile.density(h) for _, _, profile in components], axis=-1)       # (N, K, C)
     extinction = density @ np.stack([beta_ext[wavelengths] for _, beta_ext, _ in components])  # (N, K, W')
     scattering = density @ np.stack([beta_scat[wavelengths] for beta_scat, _, _ in components])
-    tau_cell = w[..., None] * extinction
-    transmittance = np.exp(-np.cumsum(tau_cell, axis=-2))                   # after each cell
+    tau = np.cumsum(w[..., None] * extinction, axis=-2)                     # through each cell
+    transmittance = np.exp(-tau)
     before = np.concatenate([np.ones_like(transmittance[..., :1, :]), transmittance[..., :-1, :]], axis=-2)
     albedo = scattering / np.maximum(extinction, 1e-300)
     opacity = 1.0 - transmittance[..., -1, :]
     # Below an opacity of 1e-4 the cells' transmittance steps lose digits; there the share is the albedo weighted
     # by optical depth, its limit, to O(opacity).
-    thin = np.sum(w[..., None] * scattering, axis=-2) / np.maximum(np.sum(tau_cell, axis=-2), 1e-300)
-    thick = np.sum(albedo * (before - transmittance), axis=-2) / np.maximum(opacity, 1e-300)
-    return np.where(opacity > 1e-4, thick, np.where(np.sum(tau_cell, axis=-2) > 0.0, thin, albedo[..., 0, :]))
+    thin = np.einsum("...k,...kw->...w", w, scattering) / np.maximum(tau[..., -1, :], 1e-300)
+    thick = np.einsum("...kw,...kw->...w", albedo, before - transmittance) / np.maximum(opacity, 1e-300)
+    return np.where(opacity > 1e-4, thick, np.where(tau[..., -1, :] > 0.0, thin, albedo[..., 0, :]))
 
 
 def scattering_grid(tables, size=None):

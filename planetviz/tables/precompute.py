@@ -136,19 +136,26 @@ def transmittance_rays(atm, sizes: TableSizes):
 def optical_depth_to_top(atm, sizes: TableSizes) -> np.ndarray:
     """The mean extinction tau(r, mu) / d along the ray to the top of the atmosphere (T = exp(-tau), d the ray's
     length; ``lookup.get_optical_depth_to_top_atmosphere_boundary`` says why), shape (n_r, n_mu, W), on
-    :func:`transmittance_rays`."""
+    :func:`transmittance_rays`, row by row (one row's nodes stay in cache)."""
     r, mu, d = transmittance_rays(atm, sizes)
-    t, w = ray_nodes(r, mu, d, sizes.transmittance_samples)
-    ext = atm.extinction(altitude(r[..., None], mu[..., None], t, atm.bottom_radius_m))
-    return np.einsum("...k,...kw->...w", w, ext) / d[..., None]
+
+    def row(i):
+        t, w = ray_nodes(r[i], mu[i], d[i], sizes.transmittance_samples)
+        ext = atm.extinction(altitude(r[i][:, None], mu[i][:, None], t, atm.bottom_radius_m))
+        return np.einsum("...k,...kw->...w", w, ext) / d[i][:, None]
+    return np.stack([row(i) for i in range(len(r))])
 
 
 def scattering_share_to_top(atm, sizes: TableSizes) -> np.ndarray:
-    """The share of the opacity 1 - T of the ray to the top of the atmosphere that scatters (``nodes.scattering_share``:
-    int_0^d beta^scat T dt / (1 - T), dimensionless, in [0, 1]), shape (n_r, n_mu, W), on :func:`transmittance_rays`;
-    times the opacity, the scattering opacity that the 4D tables' sky half is divided by (``lookup.ray_opacity``)."""
+    """The share of the opacity 1 - T of the ray to the top of the atmosphere that scatters
+    (``nodes.scattering_share``: int_0^d beta^scat T dt / (1 - T), dimensionless, in [0, 1]), shape (n_r, n_mu, W),
+    on :func:`transmittance_rays`; times the opacity, the scattering opacity that the 4D tables' sky half is divided
+    by (``lookup.ray_opacity``). The share is a mean of the single-scattering albedo, smoother along the ray than
+    the extinction: half the optical depth's nodes (32 per side at standard, within 0.5% of 64). Row by row, so
+    that one row's nodes stay in cache (0.1 s for the standard table, 0.4-1.0 s at once)."""
     r, mu, d = transmittance_rays(atm, sizes)
-    return scattering_share(atm, r, mu, d, sizes.transmittance_samples)
+    n = max(sizes.transmittance_samples // 2, 1)
+    return np.stack([scattering_share(atm, r[i], mu[i], d[i], n) for i in range(len(r))])
 
 
 def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
