@@ -66,11 +66,6 @@ vec4 get_optical_depth_to_top_atmosphere_boundary(float a, float mu, int g) {
         * distance_to_top_atmosphere_boundary(a, mu);
 }
 
-// The share of the opacity 1 - T of the ray to the top that scatters, int beta_scat T dt / (1 - T).
-vec4 get_scattering_share(float a, float mu, int g) {
-    return texture_group(scattering_share_texture, transmittance_uv_from_r_mu(a, mu), g);
-}
-
 vec4 get_transmittance_to_top_atmosphere_boundary(float a, float mu, int g) {
     return exp(-get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
 }
@@ -306,7 +301,9 @@ vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, flo
 // (NumPy: ray_opacity, whose docstring says why).
 vec4 ray_opacity(float a, float mu, bool intersects_ground, int g) {
     if (intersects_ground) return vec4(1.0);
-    return get_scattering_share(a, mu, g) * one_minus_exp(get_optical_depth_to_top_atmosphere_boundary(a, mu, g));
+    vec2 uv = transmittance_uv_from_r_mu(a, mu);
+    vec4 tau = texture_group(optical_depth_texture, uv, g) * distance_to_top_atmosphere_boundary(a, mu);
+    return texture_group(scattering_share_texture, uv, g) * one_minus_exp(tau);
 }
 
 // The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel

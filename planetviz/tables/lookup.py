@@ -37,15 +37,6 @@ def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):
     return texture2d(t.optical_depth, u, v) * d[..., None]
 
 
-def get_scattering_share(t, r, mu):
-    """The share of the opacity 1 - T of the ray (r, mu) to the top of the atmosphere that scatters (the ray must
-    not hit the ground; ``precompute.scattering_share_to_top``), read bilinearly from its table on the
-    transmittance table's grid."""
-    n_r, n_mu = t.scattering_share.shape[:2]
-    u, v = transmittance_uv_from_r_mu(r, mu, t.bottom, t.top, (n_mu, n_r))
-    return texture2d(t.scattering_share, u, v)
-
-
 def get_transmittance_to_top_atmosphere_boundary(t, r, mu):
     """T between (r, mu) and the top of the atmosphere (the ray must not hit the ground)."""
     return np.exp(-get_optical_depth_to_top_atmosphere_boundary(t, r, mu))
@@ -101,7 +92,8 @@ def one_minus_exp(x):
 def ray_opacity(t, r, mu, intersects_ground):
     """The scattering opacity (..., W) of rays (r, mu) that leave through the top of the atmosphere,
     int_0^d beta^scat T dt = s (1 - T) with T their transmittance to the top and s the share of 1 - T that
-    scatters (:func:`get_scattering_share`); 1 for rays that hit the ground: what the 4D scattering tables are
+    scatters (``Tables.scattering_share``, ``precompute.scattering_share_to_top``: on the optical-depth table's grid,
+    read at the same texture coordinates); 1 for rays that hit the ground: what the 4D scattering tables are
     divided by at their texels and multiplied by again on every read (:func:`get_scattering`,
     :class:`ScatteringStencil`; the GLSL twin of the same name). Dimensionless.
 
@@ -125,8 +117,10 @@ def ray_opacity(t, r, mu, intersects_ground):
     altitude spacing (the rows are dense near the ground), off by several times its value 0.2 m up."""
     r, mu, ground = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(intersects_ground))
     mu_sky = np.where(ground, 0.0, mu)
-    tau = get_optical_depth_to_top_atmosphere_boundary(t, r, mu_sky)
-    return np.where(ground[..., None], 1.0, get_scattering_share(t, r, mu_sky) * one_minus_exp(tau))
+    n_r, n_mu = t.optical_depth.shape[:2]
+    u, v = transmittance_uv_from_r_mu(r, mu_sky, t.bottom, t.top, (n_mu, n_r))
+    tau = texture2d(t.optical_depth, u, v) * distance_to_top_atmosphere_boundary(r, mu_sky, t.top)[..., None]
+    return np.where(ground[..., None], 1.0, texture2d(t.scattering_share, u, v) * one_minus_exp(tau))
 
 
 def first_row_rho(t, n_r):
