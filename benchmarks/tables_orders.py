@@ -3,7 +3,7 @@ presets, per light class and camera class, for the tuning and the held-out split
 
     python benchmarks/tables_orders.py [--split tuning held-out] [--atmospheres 8] [--paths 16384]
                                        [--presets earth mars exo-co2-thick] [--directions N_THETA N_PHI ...]
-                                       [--worst 10]
+                                       [--quadrature hemispheres horizon] [--worst 10]
 
 The same atmospheres and rays as benchmarks/tables_suite.py. The tables' orders 1 and 2 (the multiple-scattering
 stage stopped after order 2, its sky irradiance then that of order 1) against the reference solver's
@@ -12,7 +12,9 @@ order 2 comes from a thin band of lit air near the horizontal toward the sun, wh
 direction quadrature resolves or misses, and the reference resolves it far better than all orders (a path of two
 events has no long diffusion into the shadow). ``--directions`` gives one or more direction quadratures of the
 scattering density (cosines over both hemispheres, azimuths over half the circle) to compare, each pair in turn;
-by default the quality level's own.
+by default the quality level's own; ``--quadrature`` one or more of its kinds (``multiple.QUADRATURES``: the
+quality levels' Gauss-Legendre on each side of the horizontal, or split at each row's horizon and clustered toward
+it), each with every ``--directions``.
 
 Printed per quadrature, split and light class: the number of values (ray x wavelength, the reference above
 1e-12 / sr and its relative standard error below 20%, cameras within 100 m of the top apart), the RMS, median and
@@ -28,7 +30,7 @@ import numpy as np
 from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
-from planetviz.tables.multiple import first_two_orders
+from planetviz.tables.multiple import QUADRATURES, first_two_orders
 from planetviz.tables.precompute import sizes_for
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, rays
 from tables_suite import cases
@@ -43,7 +45,8 @@ def compare(split, args, quadratures):
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
         sizes = sizes_for(atm, QUALITY["standard"])
         tables = precompute(atm, QUALITY["standard"], cache=cache)
-        two_orders = {q: first_two_orders(tables, atm, sizes, q or sizes.directions) for q in quadratures}
+        two_orders = {q: first_two_orders(tables, atm, sizes, q[1] or sizes.directions, quadrature=q[0])
+                      for q in quadratures}
         for light in LIGHT:
             batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
             cams, views, suns = (np.concatenate(x) for x in zip(*batch))
@@ -60,7 +63,7 @@ def compare(split, args, quadratures):
 
 
 def report(split, q, rows, worst):
-    label = "the level's own" if q is None else f"{q[0]}x{q[1]}"
+    label = ("the level's own" if q[1] is None else f"{q[1][0]}x{q[1][1]}") + f", {q[0]}"
     print(f"\n{split} split, directions {label}")
     print("| light | cameras | values | RMS error | median | largest | reference noise (RMS) |")
     print("|---|---|---|---|---|---|---|")
@@ -88,13 +91,15 @@ def main():
     ap.add_argument("--paths", type=int, default=16384)
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--worst", type=int, default=10)
+    ap.add_argument("--quadrature", nargs="+", default=["hemispheres"], choices=QUADRATURES)
     ap.add_argument("--directions", type=int, nargs="+", metavar="N",
                     help="pairs N_THETA N_PHI of the scattering density's direction quadrature")
     args = ap.parse_args()
     if args.directions and len(args.directions) % 2:
         ap.error("--directions: pairs N_THETA N_PHI")
-    quadratures = [None] if not args.directions else \
+    sizes = [None] if not args.directions else \
         [tuple(args.directions[i:i + 2]) for i in range(0, len(args.directions), 2)]
+    quadratures = [(kind, size) for kind in args.quadrature for size in sizes]
     for split in args.split:
         rows = compare(split, args, quadratures)
         for q in quadratures:

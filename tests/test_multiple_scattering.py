@@ -34,6 +34,32 @@ def test_forward_factor_is_a_normalised_lobe_with_the_squared_asymmetry(name):
                        atol=1e-5)
 
 
+@pytest.mark.parametrize("altitude", [0.0, 2e3, 6e4, 1e5])
+def test_the_horizon_quadrature_integrates_each_side_of_each_rows_horizon_exactly(altitude):
+    # horizon_quadrature at a row r splits the cosines at mu_h = -sqrt(1 - (R / r)^2): with the mirrored azimuths
+    # its weights must integrate the sky's side (mu > mu_h) and the ground's apart, each exactly for polynomials in
+    # mu up to the degree its Gauss-Legendre nodes allow (5 nodes a side: degree 9 on the ground's side, degree 4 on
+    # the sky's, where mu is x^2 on the nodes: degree 2 p + 1 in x), and no node may lie on the wrong side.
+    from planetviz.tables.multiple import horizon_quadrature
+    r = np.array([B + altitude])
+    dirs, w = horizon_quadrature(r, B, 10, 6)
+    mu, w = dirs[0, :, 2], 2.0 * w[0]                            # x2: the mirrored azimuths
+    mu_h = -np.sqrt(1.0 - (B / r[0]) ** 2)
+    assert np.allclose(np.linalg.norm(dirs, axis=-1), 1.0)
+    sky = mu > mu_h
+    assert sky.sum() == mu.size // 2
+    for p in range(5):
+        assert np.isclose(np.sum(w[sky] * mu[sky] ** p), 2 * np.pi * (1.0 - mu_h ** (p + 1)) / (p + 1), rtol=1e-10)
+        assert np.isclose(np.sum(w[~sky] * mu[~sky] ** p),
+                          2 * np.pi * (mu_h ** (p + 1) - (-1.0) ** (p + 1)) / (p + 1), rtol=1e-10)
+
+
+def test_an_unknown_direction_quadrature_is_refused_by_name():
+    from planetviz.tables.multiple import multiple_scattering
+    with pytest.raises(ValueError, match="quadrature must be one of"):
+        multiple_scattering(None, EARTH, (4, 32, 64, 8), quadrature="gauss")
+
+
 def multiple_only(monkeypatch, tables, camera, view, sun):
     """sky_radiance of the multiple-scattering and irradiance tables alone: the single-scattering tables zeroed and
     read for every ray, without tables/near_ground.py's and tables/horizon.py's quadratures (which integrate single

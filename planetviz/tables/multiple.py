@@ -62,6 +62,10 @@ from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
 THICK_DENSITY_ROWS = 2
 
 
+#: The scattering density's direction quadratures (``multiple_scattering``).
+QUADRATURES = ("hemispheres", "horizon")
+
+
 def direction_quadrature(n_theta: int, n_phi: int):
     """Unit directions (K, 3) over azimuths [0, pi] and weights d(cos theta) d(phi); the caller mirrors
     them (y -> -y) for the other half. Gauss-Legendre in cos(theta) on [-1, 0] and [0, 1] separately
@@ -77,8 +81,34 @@ def direction_quadrature(n_theta: int, n_phi: int):
     return dirs, weight
 
 
+def horizon_quadrature(r, bottom, n_theta: int, n_phi: int, exponent: float = 2.0):
+    """Per point at radius r (n,): unit directions (n, K, 3), K = n_theta n_phi, over azimuths [0, pi] and
+    weights (n, K) d(cos theta) d(phi); the caller mirrors them (y -> -y). Cosines split at the ground's horizon seen from r,
+    mu_h = -sqrt(1 - (R / r)^2), where the incident light jumps from the ground's to the sky's: n_theta / 2
+    Gauss-Legendre nodes on [-1, mu_h] and n_theta / 2 on [mu_h, 1] at mu_h + (1 - mu_h) x^exponent, x on
+    Gauss-Legendre nodes in [0, 1], clustered toward the horizon, where the sky is brightest and, seen from the
+    planet's shadow, the only lit air lies; midpoint rule in azimuth."""
+    x, w = np.polynomial.legendre.leggauss(n_theta // 2)
+    x, w = 0.5 * (x + 1.0), 0.5 * w
+    mu_h = -np.sqrt(np.maximum(1.0 - (bottom / np.asarray(r, float)) ** 2, 0.0))[:, None]
+    ground_mu = -1.0 + (mu_h + 1.0) * x
+    ground_w = (mu_h + 1.0) * w
+    sky_mu = mu_h + (1.0 - mu_h) * x ** exponent
+    sky_w = (1.0 - mu_h) * exponent * x ** (exponent - 1.0) * w
+    mu = np.concatenate([ground_mu, sky_mu], -1)                        # (n, n_theta)
+    wm = np.concatenate([ground_w, sky_w], -1)
+    phi = (np.arange(n_phi) + 0.5) * np.pi / n_phi
+    mu_g = np.repeat(mu, n_phi, axis=-1)
+    phi_g = np.tile(phi, n_theta)
+    weight = np.repeat(wm, n_phi, axis=-1) * (np.pi / n_phi)
+    sin = np.sqrt(np.maximum(1.0 - mu_g * mu_g, 0.0))
+    dirs = np.stack([sin * np.cos(phi_g), sin * np.sin(phi_g), mu_g], -1)
+    return dirs, weight
+
+
 class _Incident:
-    """Geometry of the incident-radiance samples at points (r, mu_s) and directions w, fixed for all orders.
+    """Geometry of the incident-radiance samples at points (r, mu_s) and directions w (K, 3), or (n_r, K, 3) per row
+    of r (n_r, 1) (``horizon_quadrature``), fixed for all orders.
 
     With ``along_rays`` = (the scattering density's table shape, nodes per side), the orders >= 2 of
     the sky light come from the previous order's scattering density integrated along each direction to the
@@ -86,11 +116,13 @@ class _Incident:
     own grid, and S is only its output. Used for optically thick atmospheres (``multiple_scattering``)."""
 
     def __init__(self, tables, atm, r, mu_s, dirs, ms_shape, with_ground=True, along_rays=None):
-        shape = np.broadcast_shapes(np.shape(r), np.shape(mu_s)) + (len(dirs),)
+        shape = np.broadcast_shapes(np.shape(r), np.shape(mu_s)) + (dirs.shape[-2],)
         self.r = np.broadcast_to(np.asarray(r)[..., None], shape)
         self.mu_s = np.broadcast_to(np.asarray(mu_s)[..., None], shape)
-        self.mu = np.broadcast_to(dirs[:, 2], shape)
-        self.nu = dirs[:, 0] * np.sqrt(np.maximum(1 - self.mu_s ** 2, 0.0)) + dirs[:, 2] * self.mu_s
+        if dirs.ndim == 3:                        # per row of r (n_r, 1): (n_r, K, 3) -> (n_r, 1, K, 3)
+            dirs = dirs[:, None]
+        self.mu = np.broadcast_to(dirs[..., 2], shape)
+        self.nu = dirs[..., 0] * np.sqrt(np.maximum(1 - self.mu_s ** 2, 0.0)) + dirs[..., 2] * self.mu_s
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
         d_ground = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
         self.forward = None
@@ -181,9 +213,15 @@ def _view_vectors(mu, mu_s, nu):
 
 
 def _mie_kernels(atm, v, dirs, weights):
-    """Per wavelength, the renormalised kernel w_k [P_M(v . w_k) + P_M(v . w_k')] (..., K), float32."""
-    v32, dirs32 = v.astype(np.float32), dirs.T.astype(np.float32)
-    c1, c2 = v32 @ dirs32, (v32 * np.float32([1.0, -1.0, 1.0])) @ dirs32
+    """Per wavelength, the renormalised kernel w_k [P_M(v . w_k) + P_M(v . w_k')] (..., K), float32; ``dirs`` (K, 3)
+    and ``weights`` (K,), or per row of the views' first axis (n_r, K, 3) and (n_r, K)."""
+    v32, dirs32 = v.astype(np.float32), dirs.astype(np.float32)
+    mirror = v32 * np.float32([1.0, -1.0, 1.0])
+    if dirs.ndim == 3:                            # per row of the density's grid (its first axis)
+        c1, c2 = (np.einsum("a...i,aki->a...k", x, dirs32) for x in (v32, mirror))
+        weights = weights.reshape(weights.shape[:1] + (1,) * (v.ndim - 2) + weights.shape[1:])
+    else:
+        c1, c2 = v32 @ dirs32.T, mirror @ dirs32.T
     n = 4096
     grid = np.linspace(-1.0, 1.0, n + 1)
     phase_table = atm.mie.phase_function(grid).astype(np.float32)
@@ -332,7 +370,7 @@ def geometric_tail(now, before, q_max=0.99):
 
 
 def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
-                        progress=None):
+                        progress=None, quadrature="hemispheres"):
     """(multiple-scattering tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by molecules and by
     particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used).
 
@@ -341,7 +379,13 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     (``_ray_paths``); then order by order the incident light of the order before, the scattering density J
     (``_DensityKernels.density``), S integrated along the texels' rays, the irradiance, until the geometric tail
     of the orders is below ``tolerance`` of the total (or at ``max_orders``, where the tail is added).
+
+    ``quadrature``: the incident light's directions at the density's points, ``"hemispheres"``
+    (``direction_quadrature``, the same at every row: the quality levels') or ``"horizon"``
+    (``horizon_quadrature``, split at each row's horizon; benchmarks/tables_orders.py compares them).
     """
+    if quadrature not in QUADRATURES:
+        raise ValueError(f"quadrature must be one of {QUADRATURES}, got {quadrature!r}")
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
     shape = r.shape
     W = atm.n_wavelengths
@@ -357,7 +401,11 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         density_shape = (THICK_DENSITY_ROWS * shape[0],) + shape[1:]
         r_axis = scattering_grid(tables, size[:3] + (density_shape[0],))[0][:, 0, 0, 0]
         along_rays = (density_shape, samples)
-    incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], dirs, shape, along_rays=along_rays)
+    if quadrature == "horizon":
+        row_dirs, row_weights = horizon_quadrature(r_axis, tables.bottom, n_theta, n_phi)
+    else:
+        row_dirs, row_weights = dirs, weights
+    incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], row_dirs, shape, along_rays=along_rays)
     n_mu_s_i, n_r_i = tables.sizes.irradiance
     u, v = np.meshgrid((np.arange(n_mu_s_i) + 0.5) / n_mu_s_i, (np.arange(n_r_i) + 0.5) / n_r_i)
     r_irr, mu_s_irr = r_mu_s_from_irradiance_uv(u, v, tables.bottom, tables.top, (n_mu_s_i, n_r_i))
@@ -366,7 +414,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
     # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_factors``)
     lobe_factors = [f[None, :, None, :] for f in lobe_irradiance_factors(atm, dirs[up], cos_weights, mu_s_irr[0])]
-    kernels = _DensityKernels(atm, size, mu_s, dirs, weights, density_shape)
+    kernels = _DensityKernels(atm, size, mu_s, row_dirs, row_weights, density_shape)
     forward = forward_factor(atm, nu)                          # F(nu) at S's texels
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders;
@@ -419,8 +467,8 @@ class _DensityKernels:
         self.a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
         mu_j, nu_j = density_grid(mu_s[:1, 0, 0, :], size[2], size[0])                 # the same at every r
         views = np.broadcast_to(_view_vectors(mu_j, mu_s[:1], nu_j), density_shape + (3,))
-        full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])])
-        self.outer = np.einsum("ki,kj->kij", full_dirs, full_dirs)
+        full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])], axis=-2)
+        self.outer = np.einsum("...ki,...kj->...kij", full_dirs, full_dirs)
         self.vv = np.einsum("...i,...j->...ij", views, views)
         self.beta_r = np.asarray(atm.rayleigh.scattering_m)
         self.beta_m = np.asarray(atm.mie.scattering_m)
@@ -437,9 +485,11 @@ class _DensityKernels:
         J per unit density of each component: its angular part varies slowly with altitude; the density,
         which does not, is applied exactly at every integration node."""
         W = self.W
-        L_full = np.concatenate([L, L], axis=2) * np.concatenate([self.weights, self.weights])[:, None]
+        w_full = np.concatenate([self.weights, self.weights], axis=-1)
+        L_full = np.concatenate([L, L], axis=2) * (w_full[:, None, :, None] if w_full.ndim == 2 else w_full[:, None])
         m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
-        m2 = np.einsum("kxy,abkw->abxyw", self.outer, L_full)                      # (n_r, n_mu_s, 3, 3, W)
+        outer = self.outer if self.outer.ndim == 4 else self.outer[None]
+        m2 = np.einsum("akxy,abkw->abxyw", np.broadcast_to(outer, (L.shape[0],) + outer.shape[1:]), L_full)
         quad = np.einsum("abcdxy,adxyw->abcdw", self.vv, m2)
         J = np.empty(self.shape + (2 * W,), np.float32)
         J[..., :W] = self.beta_r * (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
@@ -449,13 +499,15 @@ class _DensityKernels:
         return J
 
 
-def first_two_orders(tables, atm, sizes, directions=None):
+def first_two_orders(tables, atm, sizes, directions=None, quadrature="hemispheres"):
     """``tables`` (a :class:`~planetviz.tables.precompute.Tables`) with their multiple-scattering tables holding
     order 2 only and their sky irradiance that of order 1: the multiple-scattering stage stopped after order 2,
     with ``sizes`` (the :class:`~planetviz.tables.precompute.TableSizes` the tables were made with) and the
-    scattering density's direction quadrature ``directions`` (n_theta, n_phi; default ``sizes.directions``). What
-    the reference's ``max_order=2`` is compared with (benchmarks/tables_orders.py)."""
+    scattering density's direction quadrature ``directions`` (n_theta, n_phi; default ``sizes.directions``) of the
+    kind ``quadrature`` (``multiple_scattering``). What the reference's ``max_order=2`` is compared with
+    (benchmarks/tables_orders.py)."""
     ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *(directions or sizes.directions),
-                                                    samples=sizes.multiple_samples, tolerance=0.0, max_orders=2)
+                                                    samples=sizes.multiple_samples, tolerance=0.0, max_orders=2,
+                                                    quadrature=quadrature)
     return replace(tables, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32),
                    irradiance=irradiance.astype(np.float32))
