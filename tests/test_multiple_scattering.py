@@ -42,8 +42,8 @@ def test_the_horizon_quadrature_integrates_each_side_of_each_rows_horizon_exactl
     # the sky's, where mu is x^2 on the nodes: degree 2 p + 1 in x), and no node may lie on the wrong side.
     from planetviz.tables.multiple import horizon_quadrature
     r = np.array([B + altitude])
-    dirs, w = horizon_quadrature(r, B, 10, 6)
-    mu, w = dirs[0, :, 2], 2.0 * w[0]                            # x2: the mirrored azimuths
+    dirs, w = horizon_quadrature(r, np.array([0.3]), B, T, 10, 6)
+    mu, w = dirs[0, 0, :, 2], 2.0 * w[0, 0]                      # x2: the mirrored azimuths
     mu_h = -np.sqrt(1.0 - (B / r[0]) ** 2)
     assert np.allclose(np.linalg.norm(dirs, axis=-1), 1.0)
     sky = mu > mu_h
@@ -52,6 +52,50 @@ def test_the_horizon_quadrature_integrates_each_side_of_each_rows_horizon_exactl
         assert np.isclose(np.sum(w[sky] * mu[sky] ** p), 2 * np.pi * (1.0 - mu_h ** (p + 1)) / (p + 1), rtol=1e-10)
         assert np.isclose(np.sum(w[~sky] * mu[~sky] ** p),
                           2 * np.pi * (mu_h ** (p + 1) - (-1.0) ** (p + 1)) / (p + 1), rtol=1e-10)
+
+
+@pytest.mark.parametrize("altitude, elevation", [(0.0, -12.0), (2e4, -10.0), (4e4, -13.0), (5e4, -16.0),
+                                                 (0.0, -4.0), (3e4, -6.0), (1e3, 20.0)])
+def test_the_lit_band_is_where_rays_toward_the_sun_reach_sunlit_air(altitude, elevation):
+    # lit_band_top's closed form against marching the rays: elevations 0.005 deg apart in the sun's vertical plane
+    # from the horizon to 30 deg, and the vertical, 2000 points along each up to the top radius given, each point
+    # lit unless it lies in the planet's shadow cylinder. With a band, its top must be the highest elevation with a
+    # lit point, within the elevation step and the points' spacing (0.02 deg); without one, the vertical ray must
+    # reach lit air (the point or the air above it lit) or no ray may (no lit air in sight).
+    from planetviz.tables.multiple import lit_band_top
+    top = B + 5e4
+    r, mu_s = B + altitude, np.sin(np.radians(elevation))
+    band, mu_b = lit_band_top(np.array(r), np.array(mu_s), B, top)
+    s = np.array([np.sqrt(1.0 - mu_s ** 2), 0.0, mu_s])
+    e = np.radians(np.append(np.arange(-np.degrees(np.arccos(B / r)) + 1e-4, 30.0, 0.005), 90.0))
+    w = np.stack([np.cos(e), np.zeros_like(e), np.sin(e)], -1)
+    b = r * w[:, 2]
+    t = (-b + np.sqrt(b * b - r * r + top * top))[:, None] * np.linspace(0.0, 1.0, 2000)
+    y = np.array([0.0, 0.0, r]) + t[..., None] * w[:, None, :]
+    along = y @ s
+    reaches = ((along >= 0.0) | (np.linalg.norm(y - along[..., None] * s, axis=-1) >= B)).any(axis=1)
+    if band:
+        assert not reaches[-1]
+        assert abs(np.degrees(np.arcsin(mu_b)) - np.degrees(e[reaches].max())) < 0.02
+    else:
+        assert reaches[-1] or not reaches.any()
+
+
+def test_the_lit_band_quadrature_integrates_each_piece_exactly():
+    # Every point's cosines lie on three pieces in the band's case ([-1, mu_h], [mu_h, mu_b], [mu_b, 1]) and two
+    # elsewhere, each Gauss-Legendre or a polynomial map of it: the weights (mirrored azimuths: x2) must integrate 1
+    # and mu over the sphere exactly, and the sky's side (mu > mu_h) to 2 pi (1 - mu_h).
+    from planetviz.tables.multiple import lit_band_quadrature, lit_band_top
+    r = B + np.array([0.0, 1e3, 3e4, 5e4])
+    mu_s = np.sin(np.radians(np.array([30.0, -2.0, -8.0, -14.0])))
+    dirs, w = lit_band_quadrature(r, mu_s, B, B + 5e4, 10, 6)
+    band, _ = lit_band_top(r[:, None], mu_s[None, :], B, B + 5e4)
+    assert band.any() and not band.all()
+    mu, w = dirs[..., 2], 2.0 * w
+    mu_h = -np.sqrt(1.0 - (B / r) ** 2)[:, None, None]
+    assert np.allclose(w.sum(-1), 4 * np.pi, rtol=1e-12)
+    assert np.allclose((w * mu).sum(-1), 0.0, atol=1e-12)
+    assert np.allclose(np.where(mu > mu_h, w, 0.0).sum(-1), 2 * np.pi * (1.0 - mu_h[..., 0]), rtol=1e-12)
 
 
 def test_an_unknown_direction_quadrature_is_refused_by_name():

@@ -61,7 +61,8 @@ def stage_parameters(atm, sizes) -> dict:
     m = {"single_scattering": s, "rayleigh_phase": d["rayleigh"]["phase"], "mie_phase": d["mie"]["phase"],
          "ground_albedo": d["ground_albedo"],
          "sizes": {"multiple": list(sizes.multiple), "samples": sizes.multiple_samples,
-                   "directions": list(sizes.directions), "irradiance": list(sizes.irradiance),
+                   "directions": list(sizes.directions), "quadrature": sizes.quadrature,
+                   "irradiance": list(sizes.irradiance),
                    "tolerance": sizes.tolerance}}
     return {"transmittance": t, "single_scattering": s, "multiple_scattering": m}
 

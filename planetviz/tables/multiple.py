@@ -62,10 +62,6 @@ from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
 THICK_DENSITY_ROWS = 2
 
 
-#: The scattering density's direction quadratures (``multiple_scattering``).
-QUADRATURES = ("hemispheres", "horizon")
-
-
 def direction_quadrature(n_theta: int, n_phi: int):
     """Unit directions (K, 3) over azimuths [0, pi] and weights d(cos theta) d(phi); the caller mirrors
     them (y -> -y) for the other half. Gauss-Legendre in cos(theta) on [-1, 0] and [0, 1] separately
@@ -81,34 +77,116 @@ def direction_quadrature(n_theta: int, n_phi: int):
     return dirs, weight
 
 
-def horizon_quadrature(r, bottom, n_theta: int, n_phi: int, exponent: float = 2.0):
-    """Per point at radius r (n,): unit directions (n, K, 3), K = n_theta n_phi, over azimuths [0, pi] and
-    weights (n, K) d(cos theta) d(phi); the caller mirrors them (y -> -y). Cosines split at the ground's horizon seen from r,
-    mu_h = -sqrt(1 - (R / r)^2), where the incident light jumps from the ground's to the sky's: n_theta / 2
-    Gauss-Legendre nodes on [-1, mu_h] and n_theta / 2 on [mu_h, 1] at mu_h + (1 - mu_h) x^exponent, x on
-    Gauss-Legendre nodes in [0, 1], clustered toward the horizon, where the sky is brightest and, seen from the
-    planet's shadow, the only lit air lies; midpoint rule in azimuth."""
-    x, w = np.polynomial.legendre.leggauss(n_theta // 2)
-    x, w = 0.5 * (x + 1.0), 0.5 * w
-    mu_h = -np.sqrt(np.maximum(1.0 - (bottom / np.asarray(r, float)) ** 2, 0.0))[:, None]
-    ground_mu = -1.0 + (mu_h + 1.0) * x
-    ground_w = (mu_h + 1.0) * w
-    sky_mu = mu_h + (1.0 - mu_h) * x ** exponent
-    sky_w = (1.0 - mu_h) * exponent * x ** (exponent - 1.0) * w
-    mu = np.concatenate([ground_mu, sky_mu], -1)                        # (n, n_theta)
-    wm = np.concatenate([ground_w, sky_w], -1)
+def _gauss(n, a, b):
+    """Gauss-Legendre nodes and weights (..., n) on [a, b] (arrays of the same shape)."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    a, b = np.asarray(a)[..., None], np.asarray(b)[..., None]
+    return a + (b - a) * 0.5 * (x + 1.0), (b - a) * 0.5 * w
+
+
+def _with_azimuths(mu, w_mu, n_phi):
+    """Directions (..., K, 3) and weights (..., K), K = n_cos n_phi, of cosines mu (..., n_cos) with weights w_mu
+    times n_phi azimuths on the midpoint rule over [0, pi] from the sun's (+x)."""
     phi = (np.arange(n_phi) + 0.5) * np.pi / n_phi
     mu_g = np.repeat(mu, n_phi, axis=-1)
-    phi_g = np.tile(phi, n_theta)
-    weight = np.repeat(wm, n_phi, axis=-1) * (np.pi / n_phi)
+    phi_g = np.tile(phi, mu.shape[-1])
     sin = np.sqrt(np.maximum(1.0 - mu_g * mu_g, 0.0))
-    dirs = np.stack([sin * np.cos(phi_g), sin * np.sin(phi_g), mu_g], -1)
-    return dirs, weight
+    return (np.stack([sin * np.cos(phi_g), sin * np.sin(phi_g), mu_g], -1),
+            np.repeat(w_mu, n_phi, axis=-1) * (np.pi / n_phi))
+
+
+def horizon_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int, exponent: float = 2.0):
+    """Per point (r (n_r,), mu_s (n_mu_s,)): unit directions (n_r, n_mu_s, K, 3), K = n_theta n_phi, over azimuths
+    [0, pi] and weights (n_r, n_mu_s, K) d(cos theta) d(phi); the caller mirrors them (y -> -y). Cosines split at
+    the ground's horizon seen from r, mu_h = -sqrt(1 - (R / r)^2), where the incident light jumps from the ground's to
+    the sky's: n_theta / 2 Gauss-Legendre nodes on [-1, mu_h] and n_theta / 2 on [mu_h, 1] at
+    mu_h + (1 - mu_h) x^exponent, x on Gauss-Legendre nodes in [0, 1], clustered toward the horizon, where the sky is
+    brightest and, seen from the planet's shadow, the only lit air lies; midpoint rule in azimuth. The same at
+    every mu_s."""
+    mu_h = -np.sqrt(np.maximum(1.0 - (bottom / np.asarray(r, float)) ** 2, 0.0))
+    ground_mu, ground_w = _gauss(n_theta // 2, -1.0 + 0.0 * mu_h, mu_h)
+    x, w = _gauss(n_theta - n_theta // 2, 0.0, 1.0)
+    sky_mu = mu_h[:, None] + (1.0 - mu_h[:, None]) * x ** exponent
+    sky_w = (1.0 - mu_h[:, None]) * exponent * x ** (exponent - 1.0) * w
+    dirs, weights = _with_azimuths(np.concatenate([ground_mu, sky_mu], -1), np.concatenate([ground_w, sky_w], -1),
+                                   n_phi)
+    n_mu_s = np.size(mu_s)
+    return (np.broadcast_to(dirs[:, None], (len(mu_h), n_mu_s) + dirs.shape[1:]),
+            np.broadcast_to(weights[:, None], (len(mu_h), n_mu_s) + weights.shape[1:]))
+
+
+def lit_band_top(r, mu_s, bottom, top):
+    """(whether the point (r, mu_s) sees lit air only in a band above its horizon, the cosine mu_b of the band's top)
+    (...): the point lies in the planet's shadow (mu_s < mu_h, the sun below its horizon) and so does the air
+    straight above it up to the top of the atmosphere, and mu_b = sin e_b is the elevation toward the sun whose ray
+    leaves the atmosphere at the shadow's edge. A ray at elevation e in the sun's vertical plane leaves at the central
+    angle gamma(e) = pi/2 - e - asin(r cos e / r_top) from the point (decreasing in e), where the top is lit if the
+    angle from the sun's direction is below pi/2 + alpha, alpha = acos(R / r_top): lit for gamma > theta_s - pi/2 -
+    alpha; e_b by bisection. Rays toward other azimuths reach lit air lower, if at all."""
+    r, mu_s = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu_s, float))
+    mu_h = -np.sqrt(np.maximum(1.0 - (bottom / r) ** 2, 0.0))
+    target = np.arccos(np.clip(mu_s, -1.0, 1.0)) - 0.5 * np.pi - np.arccos(bottom / top)
+    e_h = np.arcsin(mu_h)
+
+    def gamma(e):
+        return 0.5 * np.pi - e - np.arcsin(np.clip(r * np.cos(e) / top, -1.0, 1.0))
+    band = (mu_s < mu_h) & (target > 0.0) & (gamma(e_h) > target)
+    low, high = e_h, np.full(r.shape, 0.5 * np.pi)
+    for _ in range(48):
+        mid = 0.5 * (low + high)
+        lit = gamma(mid) > target
+        low, high = np.where(lit, mid, low), np.where(lit, high, mid)
+    return band, np.where(band, np.sin(low), mu_h)
+
+
+#: The share of the vertical scattering optical depth that may lie above the top of the air whose lit part
+#: :func:`lit_band_quadrature` looks for (:func:`scattering_top`).
+LIT_AIR_SHARE = 1e-3
+
+
+def scattering_top(atm, share=LIT_AIR_SHARE):
+    """The radius [m] above which ``share`` of the vertical scattering optical depth lies (at the wavelength where
+    that altitude is highest): the shadow's edge above it lights next to nothing. Midpoint rule on 4096 slabs."""
+    h = (np.arange(4096) + 0.5) / 4096 * atm.thickness_m
+    beta = (atm.rayleigh.profile.density(h)[:, None] * np.asarray(atm.rayleigh.scattering_m)
+            + atm.mie.profile.density(h)[:, None] * np.asarray(atm.mie.scattering_m))
+    above = np.cumsum(beta[::-1], axis=0)[::-1] / np.maximum(beta.sum(0), 1e-300)     # share at and above each slab
+    highest = max(h[np.nonzero(above[:, w] >= share)[0].max()] if np.any(above[:, w] >= share) else 0.0
+                  for w in range(beta.shape[1]))
+    return atm.bottom_radius_m + min(highest + 0.5 * atm.thickness_m / 4096, atm.thickness_m)
+
+
+def lit_band_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
+    """Per point (r (n_r,), mu_s (n_mu_s,)), ``top`` the radius of :func:`scattering_top`: directions
+    (n_r, n_mu_s, K, 3) and weights (n_r, n_mu_s, K) as
+    :func:`horizon_quadrature`'s, with 3/10 of the cosines (at least 2) on the ground's side; where the point sees
+    lit air only in a band above its horizon (:func:`lit_band_top`), 4/10 of them on the band [mu_h, mu_b] and the
+    rest above it, each Gauss-Legendre; elsewhere the rest on the sky's side clustered toward the horizon
+    (x^2, as :func:`horizon_quadrature`)."""
+    r, mu_s = np.asarray(r, float)[:, None], np.asarray(mu_s, float)[None, :]
+    n_ground = max(2, round(0.3 * n_theta))
+    n_band = max(1, round(0.4 * n_theta))
+    band, mu_b = lit_band_top(r, mu_s, bottom, top)
+    mu_h = np.broadcast_to(-np.sqrt(np.maximum(1.0 - (bottom / r) ** 2, 0.0)), band.shape)
+    ground_mu, ground_w = _gauss(n_ground, np.full(band.shape, -1.0), mu_h)
+    in_band = _gauss(n_band, mu_h, mu_b)
+    above = _gauss(n_theta - n_ground - n_band, mu_b, np.ones(band.shape))
+    x, w = _gauss(n_theta - n_ground, 0.0, 1.0)
+    sky_mu = mu_h[..., None] + (1.0 - mu_h[..., None]) * x * x
+    sky_w = (1.0 - mu_h[..., None]) * 2.0 * x * w
+    mu = np.where(band[..., None], np.concatenate([in_band[0], above[0]], -1), sky_mu)
+    w_mu = np.where(band[..., None], np.concatenate([in_band[1], above[1]], -1), sky_w)
+    return _with_azimuths(np.concatenate([ground_mu, mu], -1), np.concatenate([ground_w, w_mu], -1), n_phi)
+
+
+#: The scattering density's direction quadratures (``multiple_scattering``): the quality levels' (the same at
+#: every point, :func:`direction_quadrature`) and those per point (r, mu_s).
+QUADRATURES = {"hemispheres": None, "horizon": horizon_quadrature, "lit-band": lit_band_quadrature}
 
 
 class _Incident:
-    """Geometry of the incident-radiance samples at points (r, mu_s) and directions w (K, 3), or (n_r, K, 3) per row
-    of r (n_r, 1) (``horizon_quadrature``), fixed for all orders.
+    """Geometry of the incident-radiance samples at points (r, mu_s) and directions w (K, 3), or (n_r, n_mu_s, K, 3)
+    per point of r (n_r, 1) and mu_s (1, n_mu_s), fixed for all orders.
 
     With ``along_rays`` = (the scattering density's table shape, nodes per side), the orders >= 2 of
     the sky light come from the previous order's scattering density integrated along each direction to the
@@ -119,8 +197,6 @@ class _Incident:
         shape = np.broadcast_shapes(np.shape(r), np.shape(mu_s)) + (dirs.shape[-2],)
         self.r = np.broadcast_to(np.asarray(r)[..., None], shape)
         self.mu_s = np.broadcast_to(np.asarray(mu_s)[..., None], shape)
-        if dirs.ndim == 3:                        # per row of r (n_r, 1): (n_r, K, 3) -> (n_r, 1, K, 3)
-            dirs = dirs[:, None]
         self.mu = np.broadcast_to(dirs[..., 2], shape)
         self.nu = dirs[..., 0] * np.sqrt(np.maximum(1 - self.mu_s ** 2, 0.0)) + dirs[..., 2] * self.mu_s
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
@@ -214,12 +290,13 @@ def _view_vectors(mu, mu_s, nu):
 
 def _mie_kernels(atm, v, dirs, weights):
     """Per wavelength, the renormalised kernel w_k [P_M(v . w_k) + P_M(v . w_k')] (..., K), float32; ``dirs`` (K, 3)
-    and ``weights`` (K,), or per row of the views' first axis (n_r, K, 3) and (n_r, K)."""
+    and ``weights`` (K,), or per point (r, mu_s) of the views (n_r, n_mu, n_nu, n_mu_s, 3): (n_r, n_mu_s, K, 3) and
+    (n_r, n_mu_s, K)."""
     v32, dirs32 = v.astype(np.float32), dirs.astype(np.float32)
     mirror = v32 * np.float32([1.0, -1.0, 1.0])
-    if dirs.ndim == 3:                            # per row of the density's grid (its first axis)
-        c1, c2 = (np.einsum("a...i,aki->a...k", x, dirs32) for x in (v32, mirror))
-        weights = weights.reshape(weights.shape[:1] + (1,) * (v.ndim - 2) + weights.shape[1:])
+    if dirs.ndim == 4:                            # per point (r, mu_s) of the views (n_r, n_mu, n_nu, n_mu_s, 3)
+        c1, c2 = (np.einsum("abcdi,adki->abcdk", x, dirs32) for x in (v32, mirror))
+        weights = weights[:, None, None]
     else:
         c1, c2 = v32 @ dirs32.T, mirror @ dirs32.T
     n = 4096
@@ -385,7 +462,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     (``horizon_quadrature``, split at each row's horizon; benchmarks/tables_orders.py compares them).
     """
     if quadrature not in QUADRATURES:
-        raise ValueError(f"quadrature must be one of {QUADRATURES}, got {quadrature!r}")
+        raise ValueError(f"quadrature must be one of {tuple(QUADRATURES)}, got {quadrature!r}")
     r, mu, mu_s, nu, ground = scattering_grid(tables, size)
     shape = r.shape
     W = atm.n_wavelengths
@@ -401,11 +478,12 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         density_shape = (THICK_DENSITY_ROWS * shape[0],) + shape[1:]
         r_axis = scattering_grid(tables, size[:3] + (density_shape[0],))[0][:, 0, 0, 0]
         along_rays = (density_shape, samples)
-    if quadrature == "horizon":
-        row_dirs, row_weights = horizon_quadrature(r_axis, tables.bottom, n_theta, n_phi)
+    if quadrature == "hemispheres":
+        point_dirs, point_weights = dirs, weights
     else:
-        row_dirs, row_weights = dirs, weights
-    incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], row_dirs, shape, along_rays=along_rays)
+        point_dirs, point_weights = QUADRATURES[quadrature](r_axis, mu_s_axis, tables.bottom, scattering_top(atm),
+                                                           n_theta, n_phi)
+    incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], point_dirs, shape, along_rays=along_rays)
     n_mu_s_i, n_r_i = tables.sizes.irradiance
     u, v = np.meshgrid((np.arange(n_mu_s_i) + 0.5) / n_mu_s_i, (np.arange(n_r_i) + 0.5) / n_r_i)
     r_irr, mu_s_irr = r_mu_s_from_irradiance_uv(u, v, tables.bottom, tables.top, (n_mu_s_i, n_r_i))
@@ -414,7 +492,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
     # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_factors``)
     lobe_factors = [f[None, :, None, :] for f in lobe_irradiance_factors(atm, dirs[up], cos_weights, mu_s_irr[0])]
-    kernels = _DensityKernels(atm, size, mu_s, row_dirs, row_weights, density_shape)
+    kernels = _DensityKernels(atm, size, mu_s, point_dirs, point_weights, density_shape)
     forward = forward_factor(atm, nu)                          # F(nu) at S's texels
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders;
@@ -468,7 +546,7 @@ class _DensityKernels:
         mu_j, nu_j = density_grid(mu_s[:1, 0, 0, :], size[2], size[0])                 # the same at every r
         views = np.broadcast_to(_view_vectors(mu_j, mu_s[:1], nu_j), density_shape + (3,))
         full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])], axis=-2)
-        self.outer = np.einsum("...ki,...kj->...kij", full_dirs, full_dirs)
+        self.outer = np.einsum("...ki,...kj->...kij", full_dirs, full_dirs)    # (..., 2K, 3, 3)
         self.vv = np.einsum("...i,...j->...ij", views, views)
         self.beta_r = np.asarray(atm.rayleigh.scattering_m)
         self.beta_m = np.asarray(atm.mie.scattering_m)
@@ -486,10 +564,10 @@ class _DensityKernels:
         which does not, is applied exactly at every integration node."""
         W = self.W
         w_full = np.concatenate([self.weights, self.weights], axis=-1)
-        L_full = np.concatenate([L, L], axis=2) * (w_full[:, None, :, None] if w_full.ndim == 2 else w_full[:, None])
+        L_full = np.concatenate([L, L], axis=2) * w_full[..., None]
         m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
-        outer = self.outer if self.outer.ndim == 4 else self.outer[None]
-        m2 = np.einsum("akxy,abkw->abxyw", np.broadcast_to(outer, (L.shape[0],) + outer.shape[1:]), L_full)
+        m2 = np.einsum("kxy,abkw->abxyw" if self.outer.ndim == 3 else "abkxy,abkw->abxyw", self.outer,
+                       L_full)                                                      # (n_r, n_mu_s, 3, 3, W)
         quad = np.einsum("abcdxy,adxyw->abcdw", self.vv, m2)
         J = np.empty(self.shape + (2 * W,), np.float32)
         J[..., :W] = self.beta_r * (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
@@ -499,15 +577,15 @@ class _DensityKernels:
         return J
 
 
-def first_two_orders(tables, atm, sizes, directions=None, quadrature="hemispheres"):
+def first_two_orders(tables, atm, sizes, directions=None, quadrature=None):
     """``tables`` (a :class:`~planetviz.tables.precompute.Tables`) with their multiple-scattering tables holding
     order 2 only and their sky irradiance that of order 1: the multiple-scattering stage stopped after order 2,
     with ``sizes`` (the :class:`~planetviz.tables.precompute.TableSizes` the tables were made with) and the
     scattering density's direction quadrature ``directions`` (n_theta, n_phi; default ``sizes.directions``) of the
-    kind ``quadrature`` (``multiple_scattering``). What the reference's ``max_order=2`` is compared with
+    kind ``quadrature`` (``QUADRATURES``; default ``sizes.quadrature``). What the reference's ``max_order=2`` is compared with
     (benchmarks/tables_orders.py)."""
     ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *(directions or sizes.directions),
                                                     samples=sizes.multiple_samples, tolerance=0.0, max_orders=2,
-                                                    quadrature=quadrature)
+                                                    quadrature=quadrature or sizes.quadrature)
     return replace(tables, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32),
                    irradiance=irradiance.astype(np.float32))

@@ -52,6 +52,7 @@ class TableSizes:
     lobe_mu_s: int = 48                       # and its n_mu_s at least
     multiple_samples: int = 8                 # per side, integrating the scattering density
     directions: tuple = (16, 16)              # (cos theta, azimuth over [0, pi]) quadrature of J
+    quadrature: str = "hemispheres"           # its kind (``multiple.QUADRATURES``)
     tolerance: float = 1e-3                   # stop adding orders below this share of the total
 
 
@@ -323,7 +324,7 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
         def orders():
             ms, ms_mie, irr, n = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
                                                      samples=sizes.multiple_samples, tolerance=sizes.tolerance,
-                                                     progress=progress)
+                                                     progress=progress, quadrature=sizes.quadrature)
             return {"multiple": ms, "multiple_mie": ms_mie, "irradiance": irr}, {"orders": int(n)}
         ms = stages.run("multiple_scattering", orders)
         tables.multiple, tables.multiple_mie, tables.irradiance = ms["multiple"], ms["multiple_mie"], ms["irradiance"]
