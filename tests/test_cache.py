@@ -53,6 +53,17 @@ def test_only_the_stages_a_change_touches_run(tmp_path, what, change, expected):
     assert again.orders == fresh.orders
 
 
+@pytest.mark.parametrize("quadrature", ["horizon", "lit-band"])
+def test_another_direction_quadrature_recomputes_only_the_multiple_scattering(tmp_path, quadrature):
+    # The scattering density's direction quadrature (TableSizes.quadrature) is an input of the multiple-scattering
+    # stage alone: cached tables of another quadrature must not be read back for it.
+    from dataclasses import replace
+    precompute(EARTH, TINY, cache=TableCache(tmp_path))
+    other = precompute(EARTH, replace(TINY, quadrature=quadrature), cache=TableCache(tmp_path))
+    assert other.computed == ["multiple_scattering"]
+    assert not np.array_equal(other.multiple, precompute(EARTH, TINY, cache=TableCache(tmp_path)).multiple)
+
+
 def test_a_new_sun_direction_reuses_the_tables(tmp_path):
     cache = TableCache(tmp_path)
     tables = precompute(EARTH, TINY, cache=cache)

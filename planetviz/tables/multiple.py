@@ -159,12 +159,14 @@ def scattering_top(atm, share=LIT_AIR_SHARE):
 def lit_band_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     """Per point (r (n_r,), mu_s (n_mu_s,)), ``top`` the radius of :func:`scattering_top`: directions
     (n_r, n_mu_s, K, 3) and weights (n_r, n_mu_s, K) as
-    :func:`horizon_quadrature`'s, with 3/10 of the cosines (at least 2) on the ground's side; where the point sees
-    lit air only in a band above its horizon (:func:`lit_band_top`), 4/10 of them on the band [mu_h, mu_b] and the
-    rest above it, each Gauss-Legendre; elsewhere the rest on the sky's side clustered toward the horizon
-    (x^2, as :func:`horizon_quadrature`)."""
+    :func:`horizon_quadrature`'s, with 3/10 of the cosines (at least 1, of 3 or more) on the ground's side;
+    where the point sees lit air only in a band above its horizon (:func:`lit_band_top`), 4/10 of them on the band
+    [mu_h, mu_b] and the rest above it, each Gauss-Legendre; elsewhere the rest on the sky's side clustered toward
+    the horizon (x^2, as :func:`horizon_quadrature`)."""
+    if n_theta < 3:
+        raise ValueError(f"directions: the lit-band quadrature needs at least 3 cosines (n_theta), got {n_theta}")
     r, mu_s = np.asarray(r, float)[:, None], np.asarray(mu_s, float)[None, :]
-    n_ground = max(2, round(0.3 * n_theta))
+    n_ground = max(1, round(0.3 * n_theta))
     n_band = max(1, round(0.4 * n_theta))
     band, mu_b = lit_band_top(r, mu_s, bottom, top)
     mu_h = np.broadcast_to(-np.sqrt(np.maximum(1.0 - (bottom / r) ** 2, 0.0)), band.shape)
@@ -582,8 +584,8 @@ def first_two_orders(tables, atm, sizes, directions=None, quadrature=None):
     order 2 only and their sky irradiance that of order 1: the multiple-scattering stage stopped after order 2,
     with ``sizes`` (the :class:`~planetviz.tables.precompute.TableSizes` the tables were made with) and the
     scattering density's direction quadrature ``directions`` (n_theta, n_phi; default ``sizes.directions``) of the
-    kind ``quadrature`` (``QUADRATURES``; default ``sizes.quadrature``). What the reference's ``max_order=2`` is compared with
-    (benchmarks/tables_orders.py)."""
+    kind ``quadrature`` (``QUADRATURES``; default ``sizes.quadrature``). What the reference's ``max_order=2`` is
+    compared with (benchmarks/tables_orders.py)."""
     ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *(directions or sizes.directions),
                                                     samples=sizes.multiple_samples, tolerance=0.0, max_orders=2,
                                                     quadrature=quadrature or sizes.quadrature)
