@@ -3,6 +3,7 @@ reference of benchmarks/tables_orders.py and the tables' first two orders with e
 
     python benchmarks/order2_brute_force.py [--atmosphere random-0] [--light twilight] [--camera aircraft]
                                             [--ray 0] [--grid 60 72 12] [--directions 10 10 20 10 40 10]
+    python benchmarks/order2_brute_force.py --sample N [--seed 1] [--grid ...]
 
 Order 1 is reference/single.py's deterministic quadrature (the in-scattered light and the directly lit ground,
 no noise). Order 2 is that light seen from Gauss-Legendre points along the view ray (``--grid``'s third number),
@@ -18,7 +19,8 @@ error. About 30 s per point of the view ray at the default grid, on one core.
 
 The Monte Carlo reference is the stored one of ``tables_orders.py`` (``max_order=2``, 16384 paths, its standard
 error beside it); the tables' first two orders are ``multiple.first_two_orders`` with each ``--directions`` pair of
-each kind of ``multiple.QUADRATURES``.
+each kind of ``multiple.QUADRATURES``. ``--sample N`` checks N rays drawn at random (``--seed``) from the tuning
+split's twilight and deep-twilight classes instead, one line each.
 """
 import argparse
 
@@ -108,6 +110,59 @@ def brute_force(atm, x, v, s, n_cos, n_phi, n_points):
     return sky[0] + ground[0], order2
 
 
+def suite_ray(atmosphere, light, camera, ray):
+    """(name, atmosphere, the ray's camera, view and sun directions, the stored reference's result for it and its
+    index there) of the suite's ray ``ray`` of ``camera`` in ``light`` on ``atmosphere`` (a preset or random-N)."""
+    if atmosphere.startswith("random-"):
+        seed = int(atmosphere.split("-")[1])
+        atm = random_atmosphere(seed)
+    else:
+        atm, seed = load_atmosphere(atmosphere), 0
+    batch = [rays(atm, seed, c, light, n=2) for c in CAMERAS]
+    cams, views, suns = (np.concatenate(x) for x in zip(*batch))
+    k = 2 * CAMERAS.index(camera) + ray
+    ref = stored_reference(DATA, f"{atmosphere}-{light}", atm, cams, views, suns, samples=16384, seed=seed + 11,
+                           max_order=2)
+    return atm, cams[k], views[k] / np.linalg.norm(views[k]), suns[k] / np.linalg.norm(suns[k]), ref, k
+
+
+def tables_first_two_orders(atm, x, v, s, directions, kinds):
+    """{(kind, (n_theta, n_phi)): the standard tables' first two orders (W,) of the ray} for each kind of
+    ``multiple.QUADRATURES`` in ``kinds`` and each pair in ``directions``."""
+    sizes = sizes_for(atm, QUALITY["standard"])
+    tables = precompute(atm, QUALITY["standard"], cache=TableCache())
+    return {(kind, pair): sky_radiance(first_two_orders(tables, atm, sizes, pair, quadrature=kind), atm, x[None],
+                                       v[None], s[None])[0][0]
+            for kind in kinds for pair in directions}
+
+
+def sample(args):
+    """``--sample N``: N rays drawn at random (``--seed``) from the tuning split's twilight and deep-twilight classes,
+    one line each: the brute force's own change from the coarser grid, the reference's ratio to it and its z, the
+    tables' ratio to it with standard's quadrature and with ``lit-band``, at the wavelength where the reference is
+    brightest relative to its noise."""
+    rng = np.random.default_rng(args.seed)
+    names = [f"random-{i}" for i in range(8)] + ["earth", "mars", "exo-co2-thick"]
+    n_cos, n_phi, n_points = args.grid
+    print("| atmosphere | camera | light | ray | brute force [1/sr] | coarser grid | reference / brute force (z) | "
+          "hemispheres / brute force | lit-band / brute force |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for _ in range(args.sample):
+        name = names[rng.integers(len(names))]
+        light = ("twilight", "deep-twilight")[rng.integers(2)]
+        camera, ray = CAMERAS[rng.integers(len(CAMERAS))], int(rng.integers(2))
+        atm, x, v, s, ref, k = suite_ray(name, light, camera, ray)
+        one, two = brute_force(atm, x, v, s, n_cos, n_phi, n_points)
+        _, coarse = brute_force(atm, x, v, s, n_cos // 2, n_phi // 2, max(2 * n_points // 3, 2))
+        got = tables_first_two_orders(atm, x, v, s, [(10, 10)], ["hemispheres", "lit-band"])
+        want = one + two
+        w = int(np.argmax(ref.radiance[k] / np.maximum(ref.stderr[k], 1e-300)))
+        print(f"| {name} | {camera} | {light} | {ray} | {want[w]:.3e} | {(one + coarse)[w] / want[w]:.3f} | "
+              f"{ref.radiance[k][w] / want[w]:.3f} ({(ref.radiance[k][w] - want[w]) / ref.stderr[k][w]:+.1f}) | "
+              f"{got['hemispheres', (10, 10)][w] / want[w]:.3f} | {got['lit-band', (10, 10)][w] / want[w]:.3f} |",
+              flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--atmosphere", default="random-0")
@@ -116,24 +171,21 @@ def main():
     ap.add_argument("--ray", type=int, default=0, choices=(0, 1))
     ap.add_argument("--grid", type=int, nargs=3, default=(60, 72, 12), metavar=("N_COS", "N_PHI", "N_POINTS"))
     ap.add_argument("--directions", type=int, nargs="+", default=[10, 10, 20, 10, 40, 10])
+    ap.add_argument("--sample", type=int, default=0, metavar="N",
+                    help="N rays drawn at random from the tuning split's twilight classes instead, one line each")
+    ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
     if len(args.directions) % 2:
         ap.error("--directions: pairs N_THETA N_PHI")
-    if args.atmosphere.startswith("random-"):
-        name, seed = args.atmosphere, int(args.atmosphere.split("-")[1])
-        atm = random_atmosphere(seed)
-    else:
-        name, atm, seed = args.atmosphere, load_atmosphere(args.atmosphere), 0
-    batch = [rays(atm, seed, camera, args.light, n=2) for camera in CAMERAS]
-    cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-    k = 2 * CAMERAS.index(args.camera) + args.ray
-    ref = stored_reference(DATA, f"{name}-{args.light}", atm, cams, views, suns, samples=16384, seed=seed + 11,
-                           max_order=2)
-    x, v, s = cams[k], views[k] / np.linalg.norm(views[k]), suns[k] / np.linalg.norm(suns[k])
-    up = x / np.linalg.norm(x)
-    print(f"{name}, {args.camera} ray {args.ray} in {args.light}: {np.linalg.norm(x) - atm.bottom_radius_m:.0f} m up, "
-          f"view {np.degrees(np.arcsin(v @ up)):.2f} deg, sun {np.degrees(np.arcsin(s @ up)):.2f} deg, nu {v @ s:.3f}")
     np.set_printoptions(formatter={"float": "{:.4g}".format})
+    if args.sample:
+        sample(args)
+        return
+    atm, x, v, s, ref, k = suite_ray(args.atmosphere, args.light, args.camera, args.ray)
+    up = x / np.linalg.norm(x)
+    print(f"{args.atmosphere}, {args.camera} ray {args.ray} in {args.light}: "
+          f"{np.linalg.norm(x) - atm.bottom_radius_m:.0f} m up, view {np.degrees(np.arcsin(v @ up)):.2f} deg, "
+          f"sun {np.degrees(np.arcsin(s @ up)):.2f} deg, nu {v @ s:.3f}")
     n_cos, n_phi, n_points = args.grid
     one, two = brute_force(atm, x, v, s, n_cos, n_phi, n_points)
     _, two_coarse = brute_force(atm, x, v, s, n_cos // 2, n_phi // 2, max(2 * n_points // 3, 2))
@@ -141,14 +193,9 @@ def main():
     print(f"  on the coarser grid:           {one + two_coarse}")
     print(f"Monte Carlo (max_order=2):       {ref.radiance[k]} +- {ref.stderr[k]}  "
           f"({ref.radiance[k] / (one + two)} of the brute force, z {(ref.radiance[k] - one - two) / ref.stderr[k]})")
-    sizes = sizes_for(atm, QUALITY["standard"])
-    tables = precompute(atm, QUALITY["standard"], cache=TableCache())
-    for kind in QUADRATURES:
-        for i in range(0, len(args.directions), 2):
-            pair = tuple(args.directions[i:i + 2])
-            got, _ = sky_radiance(first_two_orders(tables, atm, sizes, pair, quadrature=kind), atm, cams[k:k + 1],
-                                  views[k:k + 1], suns[k:k + 1])
-            print(f"tables {pair[0]}x{pair[1]} {kind:<11}: {got[0]}  ({got[0] / (one + two)} of the brute force)")
+    pairs = [tuple(args.directions[i:i + 2]) for i in range(0, len(args.directions), 2)]
+    for (kind, pair), got in tables_first_two_orders(atm, x, v, s, pairs, QUADRATURES).items():
+        print(f"tables {pair[0]}x{pair[1]} {kind:<11}: {got}  ({got / (one + two)} of the brute force)")
 
 
 if __name__ == "__main__":
