@@ -138,9 +138,10 @@ def tables_first_two_orders(atm, x, v, s, directions, kinds):
 
 def sample(args):
     """``--sample N``: N rays drawn at random (``--seed``) from the tuning split's twilight and deep-twilight classes,
-    one line each: the brute force's own change from the coarser grid, the reference's ratio to it and its z, the
-    tables' ratio to it with standard's quadrature and with ``lit-band``, at the wavelength where the reference is
-    brightest relative to its noise."""
+    one line each: the brute force's own change from the coarser grid, the reference's ratio to it and its z (the
+    difference over the reference's standard error and the brute force's change from the coarser grid combined),
+    the tables' ratio to it with standard's quadrature and with ``lit-band``, at the wavelength where the reference
+    is brightest relative to its noise."""
     rng = np.random.default_rng(args.seed)
     names = [f"random-{i}" for i in range(8)] + ["earth", "mars", "exo-co2-thick"]
     n_cos, n_phi, n_points = args.grid
@@ -157,9 +158,10 @@ def sample(args):
         got = tables_first_two_orders(atm, x, v, s, [(10, 10)], ["hemispheres", "lit-band"])
         want = one + two
         w = int(np.argmax(ref.radiance[k] / np.maximum(ref.stderr[k], 1e-300)))
-        print(f"| {name} | {camera} | {light} | {ray} | {want[w]:.3e} | {(one + coarse)[w] / want[w]:.3f} | "
-              f"{ref.radiance[k][w] / want[w]:.3f} ({(ref.radiance[k][w] - want[w]) / ref.stderr[k][w]:+.1f}) | "
-              f"{got['hemispheres', (10, 10)][w] / want[w]:.3f} | {got['lit-band', (10, 10)][w] / want[w]:.3f} |",
+        error = np.hypot(ref.stderr[k][w], (one + coarse)[w] - want[w])
+        print(f"| {name} | {camera} | {light} | {ray} | {want[w]:.3e} | {(one + coarse)[w] / want[w]:.4f} | "
+              f"{ref.radiance[k][w] / want[w]:.4f} ({(ref.radiance[k][w] - want[w]) / error:+.1f}) | "
+              f"{got['hemispheres', (10, 10)][w] / want[w]:.4f} | {got['lit-band', (10, 10)][w] / want[w]:.4f} |",
               flush=True)
 
 
