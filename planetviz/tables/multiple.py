@@ -95,6 +95,14 @@ def _with_azimuths(mu, w_mu, n_phi):
             np.repeat(w_mu, n_phi, axis=-1) * (np.pi / n_phi))
 
 
+def _toward_horizon(n, mu_h, exponent=2.0):
+    """n cosines (..., n) and weights on the sky's side [mu_h, 1] (mu_h (...)), mu_h + (1 - mu_h) x^exponent with x
+    on Gauss-Legendre nodes in [0, 1]: clustered toward the horizon."""
+    x, w = _gauss(n, 0.0, 1.0)
+    mu_h = np.asarray(mu_h)[..., None]
+    return mu_h + (1.0 - mu_h) * x ** exponent, (1.0 - mu_h) * exponent * x ** (exponent - 1.0) * w
+
+
 def horizon_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int, exponent: float = 2.0):
     """Per point (r (n_r,), mu_s (n_mu_s,)): unit directions (n_r, n_mu_s, K, 3), K = n_theta n_phi, over azimuths
     [0, pi] and weights (n_r, n_mu_s, K) d(cos theta) d(phi); the caller mirrors them (y -> -y). Cosines split at
@@ -104,10 +112,8 @@ def horizon_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int, exponent:
     brightest and, seen from the planet's shadow, the only lit air lies; midpoint rule in azimuth. The same at
     every mu_s."""
     mu_h = -np.sqrt(np.maximum(1.0 - (bottom / np.asarray(r, float)) ** 2, 0.0))
-    ground_mu, ground_w = _gauss(n_theta // 2, -1.0 + 0.0 * mu_h, mu_h)
-    x, w = _gauss(n_theta - n_theta // 2, 0.0, 1.0)
-    sky_mu = mu_h[:, None] + (1.0 - mu_h[:, None]) * x ** exponent
-    sky_w = (1.0 - mu_h[:, None]) * exponent * x ** (exponent - 1.0) * w
+    ground_mu, ground_w = _gauss(n_theta // 2, np.full_like(mu_h, -1.0), mu_h)
+    sky_mu, sky_w = _toward_horizon(n_theta - n_theta // 2, mu_h, exponent)
     dirs, weights = _with_azimuths(np.concatenate([ground_mu, sky_mu], -1), np.concatenate([ground_w, sky_w], -1),
                                    n_phi)
     n_mu_s = np.size(mu_s)
@@ -173,9 +179,7 @@ def lit_band_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     ground_mu, ground_w = _gauss(n_ground, np.full(band.shape, -1.0), mu_h)
     in_band = _gauss(n_band, mu_h, mu_b)
     above = _gauss(n_theta - n_ground - n_band, mu_b, np.ones(band.shape))
-    x, w = _gauss(n_theta - n_ground, 0.0, 1.0)
-    sky_mu = mu_h[..., None] + (1.0 - mu_h[..., None]) * x * x
-    sky_w = (1.0 - mu_h[..., None]) * 2.0 * x * w
+    sky_mu, sky_w = _toward_horizon(n_theta - n_ground, mu_h)
     mu = np.where(band[..., None], np.concatenate([in_band[0], above[0]], -1), sky_mu)
     w_mu = np.where(band[..., None], np.concatenate([in_band[1], above[1]], -1), sky_w)
     return _with_azimuths(np.concatenate([ground_mu, mu], -1), np.concatenate([ground_w, w_mu], -1), n_phi)
@@ -459,9 +463,10 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     (``_DensityKernels.density``), S integrated along the texels' rays, the irradiance, until the geometric tail
     of the orders is below ``tolerance`` of the total (or at ``max_orders``, where the tail is added).
 
-    ``quadrature``: the incident light's directions at the density's points, ``"hemispheres"``
-    (``direction_quadrature``, the same at every row: the quality levels') or ``"horizon"``
-    (``horizon_quadrature``, split at each row's horizon; benchmarks/tables_orders.py compares them).
+    ``quadrature``: the incident light's directions at the density's points (``QUADRATURES``), ``"hemispheres"``
+    (``direction_quadrature``, the same at every point: the quality levels'), ``"horizon"``
+    (``horizon_quadrature``, split at each row's horizon) or ``"lit-band"`` (``lit_band_quadrature``, on the band of
+    lit air seen from the planet's shadow); benchmarks/tables_orders.py compares them.
     """
     if quadrature not in QUADRATURES:
         raise ValueError(f"quadrature must be one of {tuple(QUADRATURES)}, got {quadrature!r}")
