@@ -52,7 +52,7 @@ class TableSizes:
     lobe_mu_s: int = 48                       # and its n_mu_s at least
     multiple_samples: int = 8                 # per side, integrating the scattering density
     directions: tuple = (16, 16)              # (cos theta, azimuth over [0, pi]) quadrature of J
-    quadrature: str = "hemispheres"           # its kind (``multiple.QUADRATURES``)
+    quadrature: str = "lit-band"              # its kind (``multiple.QUADRATURES``)
     tolerance: float = 1e-3                   # stop adding orders below this share of the total
 
 
