@@ -95,25 +95,27 @@ def _with_azimuths(mu, w_mu, n_phi):
             np.repeat(w_mu, n_phi, axis=-1) * (np.pi / n_phi))
 
 
-def _toward_horizon(n, mu_h, exponent=2.0):
-    """n cosines (..., n) and weights on the sky's side [mu_h, 1] (mu_h (...)), mu_h + (1 - mu_h) x^exponent with x
-    on Gauss-Legendre nodes in [0, 1]: clustered toward the horizon."""
+def _toward_horizon(n, mu_h, linear=0.0):
+    """n cosines (..., n) and weights on the sky's side [mu_h, 1] (mu_h (...)), mu_h + (1 - mu_h) (l x + (1 - l)
+    x^2) with l = ``linear`` and x on Gauss-Legendre nodes in [0, 1]: clustered toward the horizon (the more, the
+    smaller l), and exact for polynomials in mu of degree n - 1."""
     x, w = _gauss(n, 0.0, 1.0)
     mu_h = np.asarray(mu_h)[..., None]
-    return mu_h + (1.0 - mu_h) * x ** exponent, (1.0 - mu_h) * exponent * x ** (exponent - 1.0) * w
+    return (mu_h + (1.0 - mu_h) * (linear * x + (1.0 - linear) * x * x),
+            (1.0 - mu_h) * (linear + 2.0 * (1.0 - linear) * x) * w)
 
 
-def horizon_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int, exponent: float = 2.0):
+def horizon_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     """Per point (r (n_r,), mu_s (n_mu_s,)): unit directions (n_r, n_mu_s, K, 3), K = n_theta n_phi, over azimuths
     [0, pi] and weights (n_r, n_mu_s, K) d(cos theta) d(phi); the caller mirrors them (y -> -y). Cosines split at
     the ground's horizon seen from r, mu_h = -sqrt(1 - (R / r)^2), where the incident light jumps from the ground's to
     the sky's: n_theta / 2 Gauss-Legendre nodes on [-1, mu_h] and n_theta / 2 on [mu_h, 1] at
-    mu_h + (1 - mu_h) x^exponent, x on Gauss-Legendre nodes in [0, 1], clustered toward the horizon, where the sky is
+    mu_h + (1 - mu_h) x^2, x on Gauss-Legendre nodes in [0, 1], clustered toward the horizon, where the sky is
     brightest and, seen from the planet's shadow, the only lit air lies; midpoint rule in azimuth. The same at
     every mu_s."""
     mu_h = -np.sqrt(np.maximum(1.0 - (bottom / np.asarray(r, float)) ** 2, 0.0))
     ground_mu, ground_w = _gauss(n_theta // 2, np.full_like(mu_h, -1.0), mu_h)
-    sky_mu, sky_w = _toward_horizon(n_theta - n_theta // 2, mu_h, exponent)
+    sky_mu, sky_w = _toward_horizon(n_theta - n_theta // 2, mu_h)
     dirs, weights = _with_azimuths(np.concatenate([ground_mu, sky_mu], -1), np.concatenate([ground_w, sky_w], -1),
                                    n_phi)
     n_mu_s = np.size(mu_s)
@@ -162,13 +164,24 @@ def scattering_top(atm, share=LIT_AIR_SHARE):
     return atm.bottom_radius_m + min(highest + 0.5 * atm.thickness_m / 4096, atm.thickness_m)
 
 
+#: The linear share l of :func:`lit_band_quadrature`'s sky cosines outside the band (:func:`_toward_horizon`):
+#: clustered toward the horizon for twilight, less than x^2 so that the sky near the zenith, where a forward lobe
+#: gathers its light, keeps nodes. Chosen on the tuning split: the presets' 12 daylight rays at standard
+#: (benchmarks/tables_vs_reference.py) read Mars 2.45% / 1.77% / 1.61% / 1.89% RMS at l = 0 / 0.5 / 0.75 / 1
+#: (40 cosines: 1.31%; noise 0.35%), the 10-bar planet 1.31% / 1.32% / 1.27% / 1.23% (40 cosines 1.29%, noise
+#: 0.93%: below resolution) and Earth 0.28% / 0.28% / 0.29% / 0.29% (noise 0.09%); the first two orders in deep
+#: twilight (benchmarks/tables_orders.py) 59.8% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top 28.5% /
+#: 35.0% / - / 38.7% (noise 9.4%).
+LIT_BAND_SKY_LINEAR = 0.5
+
+
 def lit_band_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     """Per point (r (n_r,), mu_s (n_mu_s,)), ``top`` the radius of :func:`scattering_top`: directions
     (n_r, n_mu_s, K, 3) and weights (n_r, n_mu_s, K) as
     :func:`horizon_quadrature`'s, with 3/10 of the cosines (at least 1, of 3 or more) on the ground's side;
     where the point sees lit air only in a band above its horizon (:func:`lit_band_top`), 4/10 of them on the band
     [mu_h, mu_b] and the rest above it, each Gauss-Legendre; elsewhere the rest on the sky's side clustered toward
-    the horizon (x^2, as :func:`horizon_quadrature`)."""
+    the horizon (:func:`_toward_horizon` with l = LIT_BAND_SKY_LINEAR)."""
     if n_theta < 3:
         raise ValueError(f"directions: the lit-band quadrature needs at least 3 cosines (n_theta), got {n_theta}")
     r, mu_s = np.asarray(r, float)[:, None], np.asarray(mu_s, float)[None, :]
@@ -179,7 +192,7 @@ def lit_band_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     ground_mu, ground_w = _gauss(n_ground, np.full(band.shape, -1.0), mu_h)
     in_band = _gauss(n_band, mu_h, mu_b)
     above = _gauss(n_theta - n_ground - n_band, mu_b, np.ones(band.shape))
-    sky_mu, sky_w = _toward_horizon(n_theta - n_ground, mu_h)
+    sky_mu, sky_w = _toward_horizon(n_theta - n_ground, mu_h, LIT_BAND_SKY_LINEAR)
     mu = np.where(band[..., None], np.concatenate([in_band[0], above[0]], -1), sky_mu)
     w_mu = np.where(band[..., None], np.concatenate([in_band[1], above[1]], -1), sky_w)
     return _with_azimuths(np.concatenate([ground_mu, mu], -1), np.concatenate([ground_w, w_mu], -1), n_phi)
