@@ -2,11 +2,13 @@
 
 For order n >= 2, on the grid of the multiple-scattering table (coarser than the single-scattering one):
 
-1. incident radiance L_{n-1}(r, mu_s; w) on a direction quadrature w (Gauss-Legendre in cos(theta) on
-   each side of the horizontal, midpoint rule in azimuth over [0, pi], mirrored by the symmetry about
-   the sun's vertical plane): the order n-1 sky radiance from the tables (in an optically thick
-   atmosphere, for n - 1 >= 2, J_{n-1} integrated along each direction as in step 4: the density iterated
-   from itself, see ``THICK_DENSITY_ROWS``), plus for directions that hit the ground
+1. incident radiance L_{n-1}(r, mu_s; w) on a direction quadrature w per point (r, mu_s) (``QUADRATURES``; the
+   quality levels' :func:`lit_band_quadrature`: Gauss-Legendre in cos(theta) on the ground's side of the
+   point's horizon, on the band of lit air above it where the point lies in the planet's shadow, and on the sky
+   above; midpoint rule in azimuth over [0, pi], mirrored by the symmetry about the sun's vertical plane): the
+   order n-1 sky radiance from the tables (in an optically thick atmosphere, for n - 1 >= 2, J_{n-1} integrated
+   along each direction as in step 4: the density iterated from itself, see ``THICK_DENSITY_ROWS``), plus for
+   directions that hit the ground
    T(x, y) (a / pi) E_{n-2}(y) (E_0 = the sun's direct irradiance);
 2. scattering density J_n(r, mu, mu_s, nu) = sum_w [beta_R(r) P_R(w . v) + beta_M(r) P_M(w . v)] L_{n-1}(w) dw,
    tabulated per unit density of each component (J_R / rho_R, J_M / rho_M: the densities are exponential
@@ -198,8 +200,9 @@ def lit_band_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     return _with_azimuths(np.concatenate([ground_mu, mu], -1), np.concatenate([ground_w, w_mu], -1), n_phi)
 
 
-#: The scattering density's direction quadratures (``multiple_scattering``): the quality levels' (the same at
-#: every point, :func:`direction_quadrature`) and those per point (r, mu_s).
+#: The scattering density's direction quadratures (``multiple_scattering``): the same at every point
+#: (:func:`direction_quadrature`, Gauss-Legendre on each side of the horizontal) and those per point (r, mu_s), of
+#: which ``lit-band`` is the quality levels' (``TableSizes.quadrature``).
 QUADRATURES = {"hemispheres": None, "horizon": horizon_quadrature, "lit-band": lit_band_quadrature}
 
 
