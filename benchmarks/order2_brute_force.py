@@ -4,6 +4,7 @@ reference of benchmarks/tables_orders.py and the tables' first two orders with e
     python benchmarks/order2_brute_force.py [--atmosphere random-0] [--light twilight] [--camera aircraft]
                                             [--ray 0] [--grid 60 72 12] [--directions 10 10 20 10 40 10]
     python benchmarks/order2_brute_force.py --sample N [--seed 1] [--grid ...]
+    python benchmarks/order2_brute_force.py --limb [--grid 60 72 24]
 
 Order 1 is reference/single.py's deterministic quadrature (the in-scattered light and the directly lit ground,
 no noise). Order 2 is that light seen from Gauss-Legendre points along the view ray (``--grid``'s third number),
@@ -20,9 +21,11 @@ error. About 30 s per point of the view ray at the default grid, on one core.
 The Monte Carlo reference is the stored one of ``tables_orders.py`` (``max_order=2``, 16384 paths, its standard
 error beside it); the tables' first two orders are ``multiple.first_two_orders`` with each ``--directions`` pair of
 each kind of ``multiple.QUADRATURES``. ``--sample N`` checks N rays drawn at random (``--seed``) from the tuning
-split's twilight and deep-twilight classes instead, one line each.
+split's twilight and deep-twilight classes instead, one line each. ``--limb``: Earth's limb from 1000 km instead
+(:func:`limb_ray`), order 2 alone against the tables' (their first two orders less their first), no Monte Carlo.
 """
 import argparse
+from dataclasses import replace
 
 import numpy as np
 
@@ -165,6 +168,37 @@ def sample(args):
               flush=True)
 
 
+def limb_ray(atm):
+    """(x, v, s): a camera 1000 km above ``atm``'s planet looking through the limb, the view ray's lowest point 10 km
+    up, and the sun 10 deg above the horizon there, 90 deg in azimuth from the view."""
+    bottom = atm.bottom_radius_m
+    x = np.array([0.0, 0.0, bottom + 1e6])
+    a = np.arcsin((bottom + 1e4) / (bottom + 1e6))
+    v = np.array([np.sin(a), 0.0, -np.cos(a)])
+    lowest = x - (x @ v) * v
+    up = lowest / np.linalg.norm(lowest)
+    side = np.cross(up, v)
+    side /= np.linalg.norm(side)
+    e = np.radians(10.0)
+    return x, v, np.sin(e) * up + np.cos(e) * side
+
+
+def limb(args):
+    """``--limb``: order 2 of :func:`limb_ray` on Earth by brute force (and on the coarser grid), against the
+    standard tables' order 2 with each kind of ``multiple.QUADRATURES`` at 10 x 10 directions."""
+    atm = load_atmosphere("earth")
+    x, v, s = limb_ray(atm)
+    n_cos, n_phi, n_points = args.grid
+    _, two = brute_force(atm, x, v, s, n_cos, n_phi, n_points)
+    _, coarse = brute_force(atm, x, v, s, n_cos // 2, n_phi // 2, max(2 * n_points // 3, 2))
+    print(f"brute force, order 2:   {two}  (the coarser grid {coarse / two} of it)")
+    tables = precompute(atm, QUALITY["standard"], cache=TableCache())
+    zero = replace(tables, multiple=np.zeros_like(tables.multiple), multiple_mie=np.zeros_like(tables.multiple_mie))
+    one = sky_radiance(zero, atm, x[None], v[None], s[None])[0][0]
+    for (kind, _), got in tables_first_two_orders(atm, x, v, s, [(10, 10)], QUADRATURES).items():
+        print(f"tables 10x10 {kind:<11}: {got - one}  ({(got - one) / two} of the brute force)")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--atmosphere", default="random-0")
@@ -176,12 +210,16 @@ def main():
     ap.add_argument("--sample", type=int, default=0, metavar="N",
                     help="N rays drawn at random from the tuning split's twilight classes instead, one line each")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--limb", action="store_true", help="Earth's limb from 1000 km instead (limb_ray)")
     args = ap.parse_args()
     if len(args.directions) % 2:
         ap.error("--directions: pairs N_THETA N_PHI")
     np.set_printoptions(formatter={"float": "{:.4g}".format})
     if args.sample:
         sample(args)
+        return
+    if args.limb:
+        limb(args)
         return
     atm, x, v, s, ref, k = suite_ray(args.atmosphere, args.light, args.camera, args.ray)
     up = x / np.linalg.norm(x)
