@@ -143,7 +143,7 @@ def sample(args):
     """``--sample N``: N rays drawn at random (``--seed``) from the tuning split's twilight and deep-twilight classes,
     one line each: the brute force's own change from the coarser grid, the reference's ratio to it and its z (the
     difference over the reference's standard error and the brute force's change from the coarser grid combined),
-    the tables' ratio to it with standard's quadrature and with ``lit-band``, at the wavelength where the reference
+    the tables' ratio to it with ``hemispheres`` and with ``lit-band`` (the levels'), at the wavelength where the reference
     is brightest relative to its noise."""
     rng = np.random.default_rng(args.seed)
     names = [f"random-{i}" for i in range(8)] + ["earth", "mars", "exo-co2-thick"]

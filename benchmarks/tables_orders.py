@@ -3,7 +3,7 @@ presets, per light class and camera class, for the tuning and the held-out split
 
     python benchmarks/tables_orders.py [--split tuning held-out] [--atmospheres 8] [--paths 16384]
                                        [--presets earth mars exo-co2-thick] [--directions N_THETA N_PHI ...]
-                                       [--quadrature hemispheres horizon] [--worst 10]
+                                       [--quadrature lit-band hemispheres horizon] [--worst 10]
 
 The same atmospheres and rays as benchmarks/tables_suite.py. The tables' orders 1 and 2 (the multiple-scattering
 stage stopped after order 2, its sky irradiance then that of order 1) against the reference solver's
@@ -12,9 +12,10 @@ order 2 comes from a thin band of lit air near the horizontal toward the sun, wh
 direction quadrature resolves or misses, and the reference resolves it far better than all orders (a path of two
 events has no long diffusion into the shadow). ``--directions`` gives one or more direction quadratures of the
 scattering density (cosines over both hemispheres, azimuths over half the circle) to compare, each pair in turn;
-by default the quality level's own; ``--quadrature`` one or more of its kinds (``multiple.QUADRATURES``: the
-quality levels' Gauss-Legendre on each side of the horizontal, or split at each row's horizon and clustered toward
-it), each with every ``--directions``.
+by default the quality level's own; ``--quadrature`` one or more of its kinds (``multiple.QUADRATURES``, by default
+the quality level's ``lit-band``: split at each point's horizon and at the band of lit air seen from the planet's
+shadow; ``horizon``: split at the horizon, clustered toward it; ``hemispheres``: Gauss-Legendre on each side of the
+horizontal at every point), each with every ``--directions``.
 
 Printed per quadrature, split and light class: the number of values (ray x wavelength, the reference above
 1e-12 / sr and its relative standard error below 20%, cameras within 100 m of the top apart), the RMS, median and
@@ -91,7 +92,7 @@ def main():
     ap.add_argument("--paths", type=int, default=16384)
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--worst", type=int, default=10)
-    ap.add_argument("--quadrature", nargs="+", default=["hemispheres"], choices=QUADRATURES)
+    ap.add_argument("--quadrature", nargs="+", default=[QUALITY["standard"].quadrature], choices=QUADRATURES)
     ap.add_argument("--directions", type=int, nargs="+", metavar="N",
                     help="pairs N_THETA N_PHI of the scattering density's direction quadrature")
     args = ap.parse_args()
