@@ -480,9 +480,10 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     of the orders is below ``tolerance`` of the total (or at ``max_orders``, where the tail is added).
 
     ``quadrature``: the incident light's directions at the density's points (``QUADRATURES``), ``"hemispheres"``
-    (``direction_quadrature``, the same at every point: the quality levels'), ``"horizon"``
-    (``horizon_quadrature``, split at each row's horizon) or ``"lit-band"`` (``lit_band_quadrature``, on the band of
-    lit air seen from the planet's shadow); benchmarks/tables_orders.py compares them.
+    (``direction_quadrature``, the same at every point), ``"horizon"`` (``horizon_quadrature``, split at each row's
+    horizon) or ``"lit-band"`` (``lit_band_quadrature``, on the band of lit air seen from the planet's shadow: the
+    quality levels', which the precompute passes as ``TableSizes.quadrature``); benchmarks/tables_orders.py compares
+    them.
     """
     if quadrature not in QUADRATURES:
         raise ValueError(f"quadrature must be one of {tuple(QUADRATURES)}, got {quadrature!r}")
