@@ -69,11 +69,13 @@ def test_mappings_invert_exactly(axis):
 
 @pytest.mark.parametrize("name", ["exo-co2-thick", "random-1"])
 def test_r_axis_follows_the_vertical_optical_depth(name):
-    # x_r(q) = (q + kappa c(q)) / (1 + kappa c(1)), kappa = 1 - 1 / c(1), with c(q) the largest over the
-    # wavelengths of the vertical optical depth from the ground to the altitude of q: c recovered from the axis
-    # against scipy's adaptive quadrature of the same extinction (its requested relative error 1e-10). The axis
-    # integrates with 8 Gauss-Legendre nodes between knots, exact to rounding for these exponential profiles:
-    # bound 1e-4 of c(1), still 150 times finer than one row's share of the axis (1/64), what the axis is for.
+    # x_r(q) = (q + kappa s(q)) / (1 + kappa), kappa = c(1) - 1, s = 1/2 + ln((1 + c) / (1 + c(1) - c)) /
+    # (2 ln(1 + c(1))), with c(q) the largest over the wavelengths of the vertical optical depth from the ground
+    # to the altitude of q: c recovered from the axis (s inverted: c = (e^z (1 + c(1)) - 1) / (1 + e^z),
+    # z = (2 s - 1) ln(1 + c(1))) against scipy's adaptive quadrature of the same extinction (its requested
+    # relative error 1e-10). The axis integrates with 8 Gauss-Legendre nodes between knots, exact to rounding for
+    # these exponential profiles: bound 1e-4 of c(1), still 150 times finer than one row's share of the axis
+    # (1/64), what the axis is for.
     from scipy.integrate import quad
     from planetviz.tables.parameterization import R_AXIS_KNOTS
     from planetviz.validation.random_suite import random_atmosphere
@@ -88,8 +90,9 @@ def test_r_axis_follows_the_vertical_optical_depth(name):
                         limit=400)[0] for w in range(atm.n_wavelengths))
     c_1 = column(t - b)
     assert c_1 > 1.0
-    kappa = 1.0 - 1.0 / c_1
-    c = (axis * (1.0 + kappa * c_1) - q) / kappa
+    kappa = c_1 - 1.0
+    z = (2.0 * (axis * (1.0 + kappa) - q) / kappa - 1.0) * np.log1p(c_1)
+    c = (np.exp(z) * (1.0 + c_1) - 1.0) / (1.0 + np.exp(z))
     assert np.allclose(c[::8], [column(top) for top in a[::8]], rtol=0, atol=1e-4 * c_1)
     assert np.all(np.diff(axis) > 0) and axis[0] == 0.0 and axis[-1] == pytest.approx(1.0, abs=1e-15)
 

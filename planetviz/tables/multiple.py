@@ -59,8 +59,8 @@ from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
 #: between S's 8 rows. The energy balance over a black ground (tests/test_stability.py, 440 nm, the 10-bar CO2
 #: planet, S at 8 r rows uniform in rho): 0.851 reading S, 0.899 integrating only the directions that meet the
 #: ground, 0.952 on 16 rows of its own, 0.966 on 32 at 1.6x the time. With S at 16 rows
-#: (``precompute.sizes_for``) on the r axis that follows the optical depth (``parameterization.r_axis``): 0.969
-#: on 32 rows of its own, 0.959 on S's 16 (``python benchmarks/energy_balance.py --balance exo-co2-thick``).
+#: (``precompute.sizes_for``) on the r axis that follows the optical depth (``parameterization.r_axis``): 0.972
+#: on 32 rows of its own, 0.964 on S's 16 (``python benchmarks/energy_balance.py --balance exo-co2-thick``).
 THICK_DENSITY_ROWS = 2
 
 
@@ -170,9 +170,9 @@ def scattering_top(atm, share=LIT_AIR_SHARE):
 #: clustered toward the horizon for twilight, less than x^2 so that the sky near the zenith, where a forward lobe
 #: gathers its light, keeps nodes. Chosen on the tuning split: the presets' 12 daylight rays at standard
 #: (benchmarks/tables_vs_reference.py) read Mars 2.45% / 1.77% / 1.61% / 1.89% RMS at l = 0 / 0.5 / 0.75 / 1
-#: (40 cosines: 1.31%; noise 0.35%), the 10-bar planet 1.31% / 1.32% / 1.27% / 1.23% (40 cosines 1.29%, noise
+#: (40 cosines: 1.31%; noise 0.35%), the 10-bar planet 1.28% / 1.27% / 1.23% / 1.16% (40 cosines 1.23%, noise
 #: 0.93%: below resolution) and Earth 0.28% / 0.28% / 0.29% / 0.29% (noise 0.09%); the first two orders in deep
-#: twilight (benchmarks/tables_orders.py) 59.8% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top 28.5% /
+#: twilight (benchmarks/tables_orders.py) 59.7% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top 28.5% /
 #: 35.0% / - / 38.7% (noise 9.4%).
 LIT_BAND_SKY_LINEAR = 0.5
 

@@ -134,22 +134,26 @@ def r_axis(bottom, top, extinction):
     """x_r, the 4D tables' r coordinate in [0, 1], at the ``R_AXIS_KNOTS`` values q_k = k / (R_AXIS_KNOTS - 1) of
     q = rho / H (linear in q between them):
 
-        x_r(q) = (q + kappa c(q)) / (1 + kappa c(1)),    kappa = max(0, 1 - 1 / c(1)),
+        x_r(q) = (q + kappa s(q)) / (1 + kappa),    kappa = max(0, c(1) - 1),
+        s(q) = 1/2 + (ln(1 + c(q)) - ln(1 + c(1) - c(q))) / (2 ln(1 + c(1))),
 
     c(q) the largest over the wavelengths of the vertical optical depth [dimensionless] from the ground up to the
     altitude of q, a(q) = sqrt(q^2 H^2 + R_b^2) - R_b. ``extinction``: the extinction coefficient [1/m] as a
     function of altitude [m], shape ``a.shape + (W,)``.
 
     Bruneton's x_r = q puts the rows densely near the ground, where the horizon's geometry changes fastest, but
-    wherever the atmosphere puts its air: the light inside an optically thick atmosphere changes by a factor e per
-    unit of optical depth, and rows uniform in q put several units between rows there (under 5,194 km of air on a
-    planet of 1.17e8 m, with a vertical optical depth of 7.1, they put 16 multiple-scattering rows at 0, 23, 93 and
-    210 km, a unit of optical depth being about 30 km deep there: docs/tables.md). The optical term takes the
-    share kappa c(1) / (1 + kappa c(1)) = 1 - 1 / c(1) of the rows, the optical depth beyond the first unit (86% at
-    c(1) = 7.1); an atmosphere whose vertical optical depth is at most 1 (the Earth 0.25, Mars 0.38) keeps
-    Bruneton's rows: its light changes little with the optical depth, and where its rows fall matters through
-    other structure (kappa = 1 on every atmosphere moves the rows of thin ones across their absorbing layers: the
-    suite's first two orders in deep twilight read 104% RMS against 64%, docs/tables.md)."""
+    wherever the atmosphere puts its air. In an optically thick atmosphere the light's logarithm changes by about
+    1 / (1 + tau) per unit of optical depth at an optical depth tau from the nearer boundary: by a factor e per
+    unit in the first unit under the top, where the sunlight enters and the views from space look, and more slowly
+    deeper down, where the diffuse light varies linearly with the optical depth left to the other boundary. s(q)
+    spaces the rows uniformly in that change: a unit of optical depth at tau from the nearer boundary gets a share
+    of about 1 / ((1 + tau) 2 ln(1 + c(1))) of the optical term (a unit at each boundary 7.6% at c(1) = 100, where
+    rows uniform in c gave the top unit 1% and put the last unit, above 37 km on a 60 km atmosphere, between two
+    rows). The optical term takes the share kappa / (1 + kappa) = 1 - 1 / c(1) of the rows, the optical depth
+    beyond the first unit (86% at c(1) = 7.1); an atmosphere whose vertical optical depth is at most 1 (the Earth
+    0.25, Mars 0.38) keeps Bruneton's rows: its light changes little with the optical depth, and where its rows
+    fall matters through other structure (rows that follow the optical depth on every atmosphere move the rows of
+    thin ones across their absorbing layers: docs/tables.md)."""
     h = np.sqrt(top * top - bottom * bottom)
     q = np.linspace(0.0, 1.0, R_AXIS_KNOTS)
     a = safe_sqrt(q * q * h * h + bottom * bottom) - bottom
@@ -158,8 +162,11 @@ def r_axis(bottom, top, extinction):
     heights = 0.5 * (a[1:] + a[:-1])[:, None] + half * nodes                          # (K - 1, N)
     steps = np.einsum("kn,knw->kw", half * weights, extinction(heights))             # (K - 1, W)
     c = np.concatenate([np.zeros((1, steps.shape[1])), np.cumsum(steps, axis=0)]).max(axis=1)
-    kappa = max(0.0, 1.0 - 1.0 / c[-1]) if c[-1] > 0.0 else 0.0
-    return (q + kappa * c) / (1.0 + kappa * c[-1])
+    if c[-1] <= 1.0:
+        return q
+    kappa = c[-1] - 1.0
+    s = 0.5 + (np.log1p(c) - np.log1p(np.maximum(c[-1] - c, 0.0))) / (2.0 * np.log1p(c[-1]))
+    return (q + kappa * s) / (1.0 + kappa)
 
 
 def x_r_from_rho(rho, h, axis=None):
