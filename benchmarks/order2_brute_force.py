@@ -25,7 +25,6 @@ split's twilight and deep-twilight classes instead, one line each. ``--limb``: E
 (:func:`limb_ray`), order 2 alone against the tables' (their first two orders less their first), no Monte Carlo.
 """
 import argparse
-from dataclasses import replace
 
 import numpy as np
 
@@ -37,7 +36,8 @@ from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.multiple import QUADRATURES, first_two_orders
 from planetviz.tables.precompute import sizes_for
-from planetviz.validation import CAMERAS, random_atmosphere, rays
+from planetviz.validation import CAMERAS, rays, suite_atmosphere
+from planetviz.validation.single_scattering import single_scattering_only
 from tables_orders import DATA
 
 
@@ -116,11 +116,7 @@ def brute_force(atm, x, v, s, n_cos, n_phi, n_points):
 def suite_ray(atmosphere, light, camera, ray):
     """(name, atmosphere, the ray's camera, view and sun directions, the stored reference's result for it and its
     index there) of the suite's ray ``ray`` of ``camera`` in ``light`` on ``atmosphere`` (a preset or random-N)."""
-    if atmosphere.startswith("random-"):
-        seed = int(atmosphere.split("-")[1])
-        atm = random_atmosphere(seed)
-    else:
-        atm, seed = load_atmosphere(atmosphere), 0
+    atm, seed = suite_atmosphere(atmosphere)
     batch = [rays(atm, seed, c, light, n=2) for c in CAMERAS]
     cams, views, suns = (np.concatenate(x) for x in zip(*batch))
     k = 2 * CAMERAS.index(camera) + ray
@@ -193,8 +189,7 @@ def limb(args):
     _, coarse = brute_force(atm, x, v, s, n_cos // 2, n_phi // 2, max(2 * n_points // 3, 2))
     print(f"brute force, order 2:   {two}  (the coarser grid {coarse / two} of it)")
     tables = precompute(atm, QUALITY["standard"], cache=TableCache())
-    zero = replace(tables, multiple=np.zeros_like(tables.multiple), multiple_mie=np.zeros_like(tables.multiple_mie))
-    one = sky_radiance(zero, atm, x[None], v[None], s[None])[0][0]
+    one = sky_radiance(single_scattering_only(tables), atm, x[None], v[None], s[None])[0][0]
     for (kind, _), got in tables_first_two_orders(atm, x, v, s, [(10, 10)], QUADRATURES).items():
         print(f"tables 10x10 {kind:<11}: {got - one}  ({(got - one) / two} of the brute force)")
 

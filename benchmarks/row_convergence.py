@@ -16,10 +16,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from planetviz import load_atmosphere
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
-from planetviz.validation.random_suite import random_atmosphere
+from planetviz.validation import suite_atmosphere
 
 
 def finer(sizes):
@@ -56,7 +55,7 @@ def main():
     p.add_argument("--worst", type=int, default=5)
     args = p.parse_args()
     name = args.atmosphere
-    atm = random_atmosphere(int(name.split("-")[1])) if name.startswith("random-") else load_atmosphere(name)
+    atm = suite_atmosphere(name)[0]
     cache = TableCache()
     standard = QUALITY["standard"]
     cams, views, suns, heights = queries(atm, args.altitudes, args.suns, args.views)

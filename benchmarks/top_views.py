@@ -14,13 +14,12 @@ import argparse
 
 import numpy as np
 
-from planetviz import load_atmosphere
 from planetviz.reference import solve
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.multiple import first_two_orders
 from planetviz.tables.precompute import sizes_for
-from planetviz.validation import CAMERAS, random_atmosphere, rays
+from planetviz.validation import rays, suite_atmosphere
 from planetviz.validation.single_scattering import reference_single_scattering, single_scattering_only
 
 ZENITH_COSINES = (1.0, 0.9, 0.6, 0.31, 0.1)
@@ -32,11 +31,7 @@ def main():
     ap.add_argument("--depth", type=float, default=33.0, help="the camera's depth under the top [m]")
     ap.add_argument("--paths", type=int, default=16384)
     args = ap.parse_args()
-    if args.atmosphere.startswith("random-"):
-        seed = int(args.atmosphere.split("-")[1])
-        atm = random_atmosphere(seed)
-    else:
-        atm, seed = load_atmosphere(args.atmosphere), 0
+    atm, seed = suite_atmosphere(args.atmosphere)
     cams, views, suns = rays(atm, seed, "top", "day", n=2)
     up = cams[0] / np.linalg.norm(cams[0])
     camera = up * (atm.top_radius_m - args.depth)

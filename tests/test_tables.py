@@ -78,8 +78,8 @@ def test_r_axis_follows_the_vertical_optical_depth(name):
     # (1/64), what the axis is for.
     from scipy.integrate import quad
     from planetviz.tables.parameterization import R_AXIS_KNOTS
-    from planetviz.validation.random_suite import random_atmosphere
-    atm = load_atmosphere(name) if name in ("exo-co2-thick",) else random_atmosphere(int(name.split("-")[1]))
+    from planetviz.validation import suite_atmosphere
+    atm = suite_atmosphere(name)[0]
     b, t = atm.bottom_radius_m, atm.top_radius_m
     axis = r_axis(b, t, atm.extinction)
     q = np.linspace(0.0, 1.0, R_AXIS_KNOTS)

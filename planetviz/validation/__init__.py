@@ -4,8 +4,8 @@ the CIE standard general sky (:mod:`.cie_sky`); pictures compared in CIE Y (:mod
 from .edges import EDGE_NAMES, conservative_atmosphere, edge_atmosphere, flux_balance, spectral_earth, \
     upward_flux_at_the_top
 from .random_suite import CAMERAS, LIGHT, SPLITS, WAVELENGTHS_NM, daylight_check_rays, look_point, \
-    random_atmosphere, rays, sun_elevation_seen
+    random_atmosphere, rays, suite_atmosphere, sun_elevation_seen
 
 __all__ = ["CAMERAS", "EDGE_NAMES", "LIGHT", "SPLITS", "WAVELENGTHS_NM", "conservative_atmosphere",
            "daylight_check_rays", "edge_atmosphere", "flux_balance", "look_point", "random_atmosphere", "rays",
-           "spectral_earth", "sun_elevation_seen", "upward_flux_at_the_top"]
+           "spectral_earth", "suite_atmosphere", "sun_elevation_seen", "upward_flux_at_the_top"]

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..model.atmosphere import Atmosphere
 from ..model.limits import LIMITS
+from ..model.presets import load_atmosphere
 from ..model.geometry import distance_to_ground
 
 #: Seeds of the tuning split and of the held-out split (never used while tuning; reported separately).
@@ -88,6 +89,21 @@ def random_atmosphere(seed: int, name: str | None = None) -> Atmosphere:
         "star": star,
     }
     return Atmosphere.from_dict(data)
+
+
+def suite_atmosphere(name: str) -> tuple[Atmosphere, int]:
+    """(atmosphere, seed) of a suite name: ``random-<seed>`` (:func:`random_atmosphere`) or a preset, whose rays
+    the suite draws with seed 0.
+
+    Example
+    -------
+    >>> suite_atmosphere("random-3")[1]
+    3
+    """
+    if name.startswith("random-"):
+        seed = int(name.split("-")[1])
+        return random_atmosphere(seed), seed
+    return load_atmosphere(name), 0
 
 
 def _sun_seen_at(point, elevation_deg, rng):
