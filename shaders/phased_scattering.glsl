@@ -4,7 +4,8 @@
 // In-scattered radiance of group g in its parts (the evaluator's phased_scattering before the phases): single
 // scattering from the tables or, for ground rays from near the ground, near_ground_single_scattering, and next to the
 // horizon or with the sun low along the ray blended with horizon_single_scattering (quadrature_share); multiple
-// scattering with its tables' ground_row_factor. The four tables' reads share the ray's opacity.
+// scattering with its tables' ground_row_factor and top tables (get_multiple_scattering). The four tables' reads
+// share the ray's opacity.
 ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bool intersects_ground, int g) {
     vec4 s_r, s_m;
     vec4 opacity = ray_opacity(a, mu, intersects_ground, g);
@@ -23,8 +24,10 @@ ScatteringParts get_scattering_parts(float a, float mu, float mu_s, float nu, bo
     }
     vec4 row = ground_row_factor(a, mu, intersects_ground, multiple_size.w, multiple_row_1_rho, g);
     return ScatteringParts(s_r, s_m,
-        get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g) * row,
-        get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g) * row);
+        get_multiple_scattering(multiple_texture, top_multiple_texture, multiple_size, a, mu, mu_s, nu,
+                                intersects_ground, opacity, g) * row,
+        get_multiple_scattering(multiple_mie_texture, top_multiple_mie_texture, multiple_size, a, mu, mu_s, nu,
+                                intersects_ground, opacity, g) * row);
 }
 
 // get_scattering_parts at a ground point (a = 0) for a ray to the ground, which has length 0 there: no single

@@ -25,6 +25,10 @@
 //   single_mie_texture          sampler3D  S_M, same layout
 //   multiple_texture            sampler3D  multiple scattering last scattered by molecules (phase included)
 //   multiple_mie_texture        sampler3D  multiple scattering last scattered by particles, divided by forward_factor
+//   top_multiple_texture        sampler3D  multiple_texture's top tables (NumPy: multiple.top_source): upward views at
+//                                          the top of the atmosphere; x: nu slices of mu_s as in multiple_texture, y:
+//                                          theta / (pi / 2) (theta the view zenith angle), z: the groups
+//   top_multiple_mie_texture    sampler3D  multiple_mie_texture's top tables, the same layout
 uniform float mu_s_min;
 uniform vec2 transmittance_size;
 uniform vec2 irradiance_size;
@@ -40,6 +44,8 @@ uniform sampler3D single_rayleigh_texture;
 uniform sampler3D single_mie_texture;
 uniform sampler3D multiple_texture;
 uniform sampler3D multiple_mie_texture;
+uniform sampler3D top_multiple_texture;
+uniform sampler3D top_multiple_mie_texture;
 
 float texcoord_from_unit_range(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
 
@@ -306,27 +312,51 @@ vec4 ray_opacity(float a, float mu, bool intersects_ground, int g) {
     return texture_group(scattering_share_texture, uv, g) * one_minus_exp(tau);
 }
 
-// The 4D table in a 3D texture read as the NumPy get_scattering reads it: four fetches at exact mu_s texel
-// centres (the hardware interpolates r and mu), blended geometrically along mu_s and then nu, times the ray's
-// opacity (ray_opacity, the caller's: one per ray for the four tables).
-vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, float nu, bool intersects_ground,
-                    vec4 opacity, int g) {
-    float n_nu = size.x, n_mu_s = size.y;
+// The 4D table in a 3D texture read as the NumPy get_scattering reads it, before the opacity: four fetches at exact
+// mu_s texel centres (the hardware interpolates r and mu) blended geometrically along mu_s and nu. With with_top, a
+// ray upward within the top row interval reads top_table in the top row's place: each fetch is the row under the top
+// blended with top_table's texel at theta / (pi / 2) by top_share, the texel coordinate's fraction of the way up.
+vec4 read_scattering(sampler3D table, sampler3D top_table, bool with_top, vec4 size, float a, float mu, float mu_s,
+                     float nu, bool intersects_ground, int g) {
+    float n_nu = size.x, n_mu_s = size.y, n_r = size.w;
     vec4 uvwz = scattering_uvwz_from_r_mu_mu_s_nu(a, mu, mu_s, nu, intersects_ground, size);
+    float top_share = (with_top && !intersects_ground && mu >= 0.0)
+        ? clamp(uvwz.w * n_r - 0.5 - (n_r - 2.0), 0.0, 1.0) : 0.0;
     float coord = uvwz.x * (n_nu - 1.0);
     float tex_nu = clamp(floor(coord), 0.0, max(n_nu - 2.0, 0.0));
     float lerp_nu = coord - tex_nu;
     float coord_s = texcoord_from_unit_range(x_mu_s_from_mu_s(mu_s), n_mu_s) * n_mu_s - 0.5;
     float s0 = clamp(floor(coord_s), 0.0, n_mu_s - 2.0);
     float fs = min(coord_s - s0, 1.0);
-    float z = (float(g) + uvwz.w) / float(group_count);
+    float u_r = top_share > 0.0 ? (n_r - 1.5) / n_r : uvwz.w;
+    float z = (float(g) + u_r) / float(group_count);
+    float u_top = acos(clamp(mu, 0.0, 1.0)) / (0.5 * PI);
+    float z_top = (float(g) + 0.5) / float(group_count);
     float width = float(textureSize(table, 0).x);        // n_nu n_mu_s, or one more (textures.py pack_3d)
     vec4 slices[2];
     for (int dn = 0; dn < 2; ++dn) {
         float base = (tex_nu + float(dn)) * n_mu_s;
-        vec4 a = texture(table, vec3((base + s0 + 0.5) / width, uvwz.z, z));
-        vec4 b = texture(table, vec3((base + s0 + 1.5) / width, uvwz.z, z));
-        slices[dn] = geometric_blend(a, b, fs);
+        vec4 ab[2];
+        for (int ds = 0; ds < 2; ++ds) {
+            float x = (base + s0 + 0.5 + float(ds)) / width;
+            ab[ds] = texture(table, vec3(x, uvwz.z, z));
+            if (top_share > 0.0) ab[ds] = mix(ab[ds], texture(top_table, vec3(x, u_top, z_top)), top_share);
+        }
+        slices[dn] = geometric_blend(ab[0], ab[1], fs);
     }
-    return (n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0]) * opacity;
+    return n_nu > 1.0 ? geometric_blend(slices[0], slices[1], lerp_nu) : slices[0];
+}
+
+// The 4D table read as the NumPy get_scattering reads it (read_scattering), times the ray's opacity (ray_opacity, the
+// caller's: one per ray for the four tables).
+vec4 get_scattering(sampler3D table, vec4 size, float a, float mu, float mu_s, float nu, bool intersects_ground,
+                    vec4 opacity, int g) {
+    return read_scattering(table, table, false, size, a, mu, mu_s, nu, intersects_ground, g) * opacity;
+}
+
+// get_scattering of a multiple-scattering table with its top tables (NumPy: get_scattering with top): a ray upward
+// from within the top row interval reads top_table in the top row's place, at theta / (pi / 2).
+vec4 get_multiple_scattering(sampler3D table, sampler3D top_table, vec4 size, float a, float mu, float mu_s,
+                             float nu, bool intersects_ground, vec4 opacity, int g) {
+    return read_scattering(table, top_table, true, size, a, mu, mu_s, nu, intersects_ground, g) * opacity;
 }

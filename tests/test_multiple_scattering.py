@@ -130,9 +130,11 @@ def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along
     sun = np.array([-0.35658817, 0.91798213, 0.17364818])
     order_2 = []
     for samples in (sizes.multiple_samples, 4 * sizes.multiple_samples):
-        ms, ms_mie, _, _ = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
-                                               samples=samples, tolerance=0.0, max_orders=2)
-        only_2 = replace(standard_single, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32))
+        out = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions, samples=samples,
+                                  tolerance=0.0, max_orders=2)
+        only_2 = replace(standard_single, multiple=out.multiple.astype(np.float32),
+                         multiple_mie=out.multiple_mie.astype(np.float32), top_multiple=out.top.astype(np.float32),
+                         top_multiple_mie=out.top_mie.astype(np.float32))
         order_2.append(multiple_only(monkeypatch, only_2, cam[None], view[None], sun)[0][0])
     assert np.allclose(order_2[0], order_2[1], rtol=0.02), order_2
 
@@ -151,10 +153,10 @@ def test_third_order_toward_a_set_sun_matches_a_direct_integration(standard_sing
     from planetviz.tables.multiple import multiple_scattering
     sizes = QUALITY["standard"]
     kw = dict(samples=sizes.multiple_samples, tolerance=0.0)
-    s2, s2_mie, e1, _ = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
-                                            max_orders=2, **kw)
-    s23, s23_mie, _, _ = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
-                                             max_orders=3, **kw)
+    s2, s2_mie, e1 = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
+                                         max_orders=2, **kw)[:3]
+    s23, s23_mie = multiple_scattering(standard_single, EARTH, sizes.multiple, *sizes.directions,
+                                       max_orders=3, **kw)[:2]
     order_2 = replace(standard_single, multiple=s2.astype(np.float32), multiple_mie=s2_mie.astype(np.float32),
                       irradiance=e1.astype(np.float32))
     order_3 = replace(order_2, multiple=(s23 - s2).astype(np.float32), multiple_mie=(s23_mie - s2_mie).astype(
@@ -241,9 +243,10 @@ def test_second_order_under_a_sharp_forward_lobe_matches_a_direct_integration():
     R = mars.bottom_radius_m
     sizes = QUALITY["standard"]
     tables = precompute(mars, sizes, multiple=False)
-    ms, ms_mie, _, _ = multiple_scattering(tables, mars, sizes.multiple, *sizes.directions,
-                                           samples=sizes.multiple_samples, tolerance=0.0, max_orders=2)
-    tables.multiple, tables.multiple_mie = ms.astype(np.float32), ms_mie.astype(np.float32)
+    out = multiple_scattering(tables, mars, sizes.multiple, *sizes.directions, samples=sizes.multiple_samples,
+                              tolerance=0.0, max_orders=2)
+    tables.multiple, tables.multiple_mie = out.multiple.astype(np.float32), out.multiple_mie.astype(np.float32)
+    tables.top_multiple, tables.top_multiple_mie = out.top.astype(np.float32), out.top_mie.astype(np.float32)
     no_single = type(tables)(**{**tables.__dict__, "rayleigh": np.zeros_like(tables.rayleigh),
                                 "mie": np.zeros_like(tables.mie)})
     cam, sun = np.array([0.0, 0.0, R + 2.0]), np.array([0.5, 0.0, 0.866])

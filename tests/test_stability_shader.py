@@ -299,3 +299,26 @@ def test_no_float_weighted_select_in_the_shaders():
     assert float_weighted_selects("vec4 lit = max(vec4(greaterThan(a, vec4(0.0))), vec4(greaterThan(b, vec4(0.0))));\n"
                                   "vec4 a_f = mix(vec4(1.0), max(a, 1e-37), lit);")
     assert float_weighted_selects("return mix(x, f(y, z), vec3(greaterThan(c, vec3(0.5))));")
+
+
+@pytest.mark.parametrize("shading", ["pixel", "vertex"])
+@pytest.mark.parametrize("depth, zenith_deg", [(33.0, 5.0), (33.0, 60.0), (3000.0, 80.0)])
+def test_upward_views_under_the_top_read_the_top_tables_as_in_the_evaluator(shading, depth, zenith_deg):
+    # Cameras within Mars's top row interval looking up read the multiple-scattering tables' top tables in the top
+    # row's place (lookup.get_scattering with top; the shaders' get_multiple_scattering). Under Mars's forward lobe
+    # they differ from the top row's reading by up to 4 times (benchmarks/top_views.py), so a shader that read the
+    # top row, or the top tables at another zenith angle, would be far outside the bound (that of the generated
+    # views).
+    scene = Scene("mars", quality="draft", surface=None, off_screen=True, window_size=SIZE, shading=shading)
+    try:
+        scene.settings.show_sun = False
+        atm = scene.atmosphere
+        up = np.array([0.0, 0.0, 1.0])
+        zenith = np.radians(zenith_deg)
+        view = np.array([np.sin(zenith), 0.0, np.cos(zenith)])
+        scene.set_view(up * (atm.top_radius_m - depth), view, fov=10.0)
+        scene.sun_direction = np.array([np.cos(np.radians(24.0)), 0.3, np.sin(np.radians(24.0))])
+        scene.sun_direction /= np.linalg.norm(scene.sun_direction)
+        assert compare(scene, shading) < BOUND
+    finally:
+        scene.close()

@@ -16,7 +16,8 @@ from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.lookup import get_irradiance, get_scattering, get_transmittance_to_sun
 from planetviz.tables.parameterization import (MU_S_MIN, NU_RANGE_FLOOR, distance_to_top_atmosphere_boundary,
                                                mu_s_from_x_mu_s, r_axis, r_mu_from_transmittance_uv,
-                                               r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
+                                               nu_from_x_nu, r_mu_mu_s_nu_from_scattering_uvwz, ray_intersects_ground,
+                                               rho_from_x_r,
                                                scattering_uvwz_from_r_mu_mu_s_nu, transmittance_uv_from_r_mu,
                                                unit_range_from_texcoord)
 from planetviz.tables.nodes import scattering_grid
@@ -199,6 +200,37 @@ def test_scattering_lookup_is_linear_in_r_and_mu_and_geometric_in_mu_s_and_nu():
     assert np.allclose(got, want, rtol=1e-9)
 
 
+def test_upward_rays_in_the_top_row_interval_read_the_top_tables_by_zenith_angle():
+    # The same closed form with top tables linear in their texel coordinate theta / (pi / 2): upward rays whose r
+    # texel coordinate lies between the last two rows read the row under the top and the top tables, blended by
+    # that coordinate's fraction; every other ray reads the 4D table alone (the formula of the test above).
+    n_r, n_mu, n_nu, n_mu_s = 6, 10, 4, 8
+    k, j, n, s = np.meshgrid(np.arange(n_r), np.arange(n_mu), np.arange(n_nu), np.arange(n_mu_s), indexing="ij")
+    table = ((1.0 + 2.0 * k + 3.0 * j) * np.exp(-0.7 * s + 0.4 * n))[..., None]
+    i, n2, s2 = np.meshgrid(np.arange(n_mu // 2), np.arange(n_nu), np.arange(n_mu_s), indexing="ij")
+    top = ((50.0 + 5.0 * i) * np.exp(-0.7 * s2 + 0.4 * n2))[..., None]
+    rng = np.random.default_rng(6)
+    rho_low = rho_from_x_r(unit_range_from_texcoord(np.array([(n_r - 2.5) / n_r, 1.0]), n_r), np.sqrt(T * T - B * B),
+                           THICK_AXIS)
+    r = np.sqrt(rng.uniform(*rho_low, 300) ** 2 + B * B)             # from half a row under the last interval
+    mu = rng.uniform(-0.2, 1.0, 300)
+    mu_s = rng.uniform(-0.2, 1.0, 300)
+    nu = nu_from_x_nu(mu, mu_s, rng.uniform(0.0, 1.0, 300))
+    g = ray_intersects_ground(r, mu, B)
+    t = type("T", (), {"bottom": B, "top": T, "r_axis": THICK_AXIS})()
+    got = get_scattering(t, table, r, mu, mu_s, nu, g, opacity=np.ones((300, 1)), top=top)[:, 0]
+    u_nu, u_mu_s, u_mu, u_r = scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, g, B, T, (n_nu, n_mu_s, n_mu, n_r),
+                                                                THICK_AXIS)
+    kc, jc, sc = np.clip(u_r * n_r - 0.5, 0, n_r - 1), (u_mu * n_mu - 0.5), (u_mu_s * n_mu_s - 0.5)
+    nc = u_nu * (n_nu - 1)
+    ic = np.clip(np.arccos(np.clip(mu, 0.0, 1.0)) / (0.5 * np.pi) * (n_mu // 2) - 0.5, 0, n_mu // 2 - 1)
+    share = np.where(~g & (mu >= 0), np.clip(kc - (n_r - 2), 0.0, 1.0), 0.0)
+    under = np.where(share > 0, 1.0 + 2.0 * (n_r - 2) + 3.0 * jc, 1.0 + 2.0 * kc + 3.0 * jc)
+    want = ((1 - share) * under + share * (50.0 + 5.0 * ic)) * np.exp(-0.7 * sc + 0.4 * nc)
+    assert np.any(share > 0.5) and np.any((share == 0) & (kc > n_r - 2))
+    assert np.allclose(got, want, rtol=1e-9)
+
+
 def test_scattering_lookup_decays_geometrically_toward_a_zero_texel():
     # Where a neighbour is 0 (a texel in the planet's shadow) a pure geometric blend would snap to 0 and a
     # linear one glows (it holds half the lit value half-way into the shadow): the lookup decays
@@ -348,7 +380,7 @@ def test_the_orders_beyond_the_cap_are_added_as_a_geometric_tail():
     def energy(tolerance, max_orders):
         ms, ms_mie, irradiance, orders = multiple_scattering(single, atm, draft.multiple, *draft.directions,
                                                              samples=draft.multiple_samples, tolerance=tolerance,
-                                                             max_orders=max_orders)
+                                                             max_orders=max_orders)[:4]
         return np.concatenate([ms.sum((0, 1, 2, 3)), ms_mie.sum((0, 1, 2, 3)), irradiance.sum((0, 1))]), orders
 
     converged, orders = energy(1e-4, 400)

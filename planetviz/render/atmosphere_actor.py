@@ -128,6 +128,9 @@ class TableTextures:
                     **{f"{name}_texture": upload(render_window, pack_3d(table, odd_width=True), half_float=half)
                        for name, table in (("single_rayleigh", t.rayleigh), ("single_mie", t.mie),
                                            ("multiple", t.multiple), ("multiple_mie", t.multiple_mie))},
+                    **{f"top_{name}_texture": upload(render_window, pack_3d(table[None], odd_width=True),
+                                                     half_float=half)
+                       for name, table in (("multiple", t.top_multiple), ("multiple_mie", t.top_multiple_mie))},
                     "scattering_share_texture": upload(render_window, pack_2d(t.scattering_share), half_float=half),
                     "density_texture": upload(render_window, density_image(self.atmosphere))})
             self._textures["surface_faces"] = self._surface_texture.get(render_window, self._cube())

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 #: Bump when the content or layout of any table changes: older files are then recomputed.
-FORMAT_VERSION = 29
+FORMAT_VERSION = 30
 
 def default_directory() -> Path:
     return Path(os.environ.get("PLANETVIZ_CACHE") or Path.home() / ".cache" / "planetviz")
@@ -72,11 +72,11 @@ def parameters_hash(params: dict) -> str:
 
 
 def _as_image(a: np.ndarray) -> np.ndarray:
-    """(n_r, ..., W) -> (rows, columns, W): 2D tables as they are, 4D ones as stacked 3D-texture slices."""
+    """(..., W) -> (rows, columns, W): 2D tables as they are, 3D and 4D ones (n_r, n_mu, n_nu, n_mu_s, W) as stacked
+    texture slices (n_r n_mu, n_nu n_mu_s, W)."""
     if a.ndim == 3:
         return a
-    n_r, n_mu, n_nu, n_mu_s, w = a.shape
-    return a.reshape(n_r * n_mu, n_nu * n_mu_s, w)
+    return a.reshape(-1, a.shape[-3] * a.shape[-2], a.shape[-1])
 
 
 def _checksum(arrays: dict) -> str:

@@ -41,8 +41,10 @@ def phased_scattering(tables, atm, r, mu, mu_s, nu, ground):
                           for table in (tables.rayleigh, tables.mie, tables.multiple))
     else:
         opacity = ray_opacity(tables, r, mu, ground)
-        s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground, opacity)
-                                    for table in (tables.rayleigh, tables.mie, tables.multiple, tables.multiple_mie))
+        s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground, opacity, top)
+                                    for table, top in ((tables.rayleigh, None), (tables.mie, None),
+                                                       (tables.multiple, tables.top_multiple),
+                                                       (tables.multiple_mie, tables.top_multiple_mie)))
         near = near_ground_rays(tables, r, ground)
         if np.any(near):
             s_r[near], s_m[near] = near_ground_single_scattering(tables, atm, r[near], mu[near], mu_s[near], nu[near])

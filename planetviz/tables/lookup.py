@@ -274,9 +274,13 @@ class ScatteringStencil:
         return out.reshape(self.shape + (flat.shape[-1],))
 
 
-def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None):
+def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None, top=None):
     """A 4D table (n_r, n_mu, n_nu, n_mu_s, W) read as the shader reads its 3D texture (n_r, n_mu, n_nu * n_mu_s),
     times :func:`ray_opacity` (``opacity``, computed here when not given): the tables hold S over it.
+
+    ``top`` (n_up, n_nu, n_mu_s, W), the multiple-scattering tables' top tables (``multiple.top_source``): rays
+    upward (mu >= 0) read them in place of the top row, at u = theta / (pi / 2) (theta the view zenith angle) and
+    the same nu and mu_s texels: the top row holds rays of zero length there, one texel for every zenith angle.
 
     Along mu_s and nu the two neighbouring texels are fetched separately (each at its exact texel centre, so
     the hardware interpolates only r and mu: four texture() calls in the shader) and blended geometrically,
@@ -300,10 +304,23 @@ def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None):
     (k0, k1, fz), (j0, j1, fy) = texel_axis(u_r, n_r), texel_axis(u_mu, n_mu)
     fz, fy = fz[..., None], fy[..., None]
 
+    if top is None:
+        def row_pair(kk, col):
+            return flat[kk * n_mu + j0, col] * (1 - fy) + flat[kk * n_mu + j1, col] * fy
+    else:
+        n_up = top.shape[0]
+        top_flat = top.reshape(n_up, n_nu * n_mu_s, top.shape[-1])
+        t0, t1, ft = texel_axis(np.arccos(np.clip(mu, 0.0, 1.0)) / (0.5 * np.pi), n_up)
+        ft = ft[..., None]
+        upward = (~np.asarray(intersects_ground) & (np.asarray(mu) >= 0.0))[..., None]
+
+        def row_pair(kk, col):
+            sky = flat[kk * n_mu + j0, col] * (1 - fy) + flat[kk * n_mu + j1, col] * fy
+            at_top = top_flat[t0, col] * (1 - ft) + top_flat[t1, col] * ft
+            return np.where(upward & (kk == n_r - 1)[..., None], at_top, sky)
+
     def bilinear(col):
-        row = lambda kk, jj: flat[kk * n_mu + jj, col]
-        return ((row(k0, j0) * (1 - fy) + row(k0, j1) * fy) * (1 - fz)
-                + (row(k1, j0) * (1 - fy) + row(k1, j1) * fy) * fz)
+        return row_pair(k0, col) * (1 - fz) + row_pair(k1, col) * fz
 
     slices = []
     for dn in (0, 1) if n_nu > 1 else (0,):

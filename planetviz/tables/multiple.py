@@ -29,7 +29,8 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
 S_n is radiance (phase included) and accumulates into two tables, the light last scattered by molecules
 and that last scattered by particles divided by ``forward_factor`` (with the particles' part of J), so
 that a sharp forward lobe leaves a slowly varying table, both divided by the ray's ``lookup.ray_opacity``
-as the single-scattering tables are; E accumulates into the irradiance table. Orders
+as the single-scattering tables are; E accumulates into the irradiance table, and J on its top row, views upward,
+into the top tables (:func:`top_source`). Orders
 stop when the tail estimated from the ratio q of the last two orders, S_n q / (1 - q), is below
 ``tolerance`` of the total (both for scattering and irradiance), or at ``max_orders``; stopped there with
 ``tolerance`` > 0, the tail is added (``geometric_tail``; with ``tolerance`` = 0 the sum is exactly the orders
@@ -38,13 +39,14 @@ up to ``max_orders``).
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import NamedTuple
 
 import numpy as np
 
 from .lookup import (EMPTY_RAY_OPACITY, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, ground_row_factor, ray_opacity)
-from .nodes import (LONG_RAY_NODE_FACTOR, integration_grid, is_optically_thick, ray_nodes, scattering_grid,
-                    split_ray_nodes)
+from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, integration_grid, is_optically_thick, ray_nodes,
+                    scattering_grid, split_ray_nodes)
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
@@ -468,16 +470,29 @@ def geometric_tail(now, before, q_max=0.99):
     return q / (1.0 - q)
 
 
+class MultipleScattering(NamedTuple):
+    """The multiple-scattering stage's output (:func:`multiple_scattering`)."""
+
+    multiple: np.ndarray        # (n_r, n_mu, n_nu, n_mu_s, W) S of the light last scattered by molecules, over opacity
+    multiple_mie: np.ndarray    # the same for particles, divided by ``forward_factor``
+    irradiance: np.ndarray      # (n_r, n_mu_s, W) indirect irradiance
+    orders: int                 # the highest order used
+    top: np.ndarray             # (n_mu / 2, n_nu, n_mu_s, W) upward views at the top (:func:`top_source`), molecules
+    top_mie: np.ndarray         # and particles, divided by ``forward_factor``
+
+
 def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
-                        progress=None, quadrature="hemispheres"):
-    """(multiple-scattering tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by molecules and by
-    particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used).
+                        progress=None, quadrature="hemispheres") -> MultipleScattering:
+    """The orders >= 2 (:class:`MultipleScattering`): tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by
+    molecules and by particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used;
+    the top tables of upward views (:func:`top_source`).
 
     Steps: the incident light's and the irradiance's direction quadratures (``_Incident``); the scattering
     density's grid and phase kernels (``_DensityKernels``); the integration paths of S's texels
     (``_ray_paths``); then order by order the incident light of the order before, the scattering density J
-    (``_DensityKernels.density``), S integrated along the texels' rays, the irradiance, until the geometric tail
-    of the orders is below ``tolerance`` of the total (or at ``max_orders``, where the tail is added).
+    (``_DensityKernels.density``), S integrated along the texels' rays, the irradiance, J on its top row for upward
+    views, until the geometric tail of the orders is below ``tolerance`` of the total (or at ``max_orders``, where
+    the tail is added); the top row's J as the top tables (:func:`top_source`).
 
     ``quadrature``: the incident light's directions at the density's points (``QUADRATURES``), ``"hemispheres"``
     (``direction_quadrature``, the same at every point), ``"horizon"`` (``horizon_quadrature``, split at each row's
@@ -525,6 +540,8 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
 
     total = np.zeros(shape + (2 * W,))
     irradiance = np.zeros(r_irr.shape + (W,))
+    upward = density_shape[1] // 2                     # the density grid's views above the horizontal
+    top_total = np.zeros((upward,) + density_shape[2:] + (2 * W,))
     ms_prev = irr_prev = J_prev = None
     last = None
     order = 1
@@ -538,6 +555,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
             S[rays] = np.einsum("...kw,...kw->...w", node_weight, stencil.apply(J))
         total += S
         irradiance += e
+        top_total += J[-1, :upward]
         before = (ms_prev, irr_prev)
         ms_prev, irr_prev, J_prev = S, e, J
         size_now = (S[..., :W] + forward * S[..., W:]).sum()
@@ -552,11 +570,43 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         last = size_now
     else:
         if tolerance > 0 and order > 2:      # stopped by the cap, not converged: add the orders beyond it
-            total += ms_prev * geometric_tail(ms_prev, before[0])
+            tail = geometric_tail(ms_prev, before[0])
+            total += ms_prev * tail
+            top_total += J_prev[-1, :upward] * tail
             irradiance += irr_prev * geometric_tail(irr_prev, before[1])
     if progress:
         progress(f"multiple scattering, {order} orders", 1.0)
-    return total[..., :W], total[..., W:], irradiance, order
+    top, top_mie = top_source(atm, top_total)
+    return MultipleScattering(total[..., :W], total[..., W:], irradiance, order, top, top_mie)
+
+
+def top_source(atm, density):
+    """(molecules, particles) (n_up, n_nu, n_mu_s, W): what the 4D multiple-scattering tables hold for rays of zero
+    length at the top of the atmosphere looking up, by view zenith angle, from ``density`` (n_up, n_nu, n_mu_s, 2W),
+    the scattering density per unit density of each component [J_R / rho_R, J_M / (rho_M F)] summed over the
+    orders, on its grid's top row and its n_up views above the horizontal (u = theta / (pi / 2), texel centres at
+    (i + 1/2) / n_up; the 4D tables' nu and mu_s texels).
+
+    The 4D tables hold S over the ray's scattering opacity, int J T dt / int beta^scat T dt, which for a ray of
+    zero length is J_R rho_R / beta^scat and J_M rho_M / beta^scat, beta^scat = beta_R^scat rho_R + beta_M^scat rho_M,
+    each at the point; here at ``nodes.ZERO_RAY_LENGTH`` times the thickness under the top, where the tables' own
+    texels of zero length are integrated, and 0 where nothing scatters there (every ray then has zero opacity).
+
+    Why: every ray that leaves the top of the atmosphere upward from the tables' top row interval reads the top
+    row at u_mu next to 1/2, where the mu axis follows the distance to the top: a ray of zero length from the top
+    row, the same texel for every zenith angle. Under a forward lobe the light at the top changes fast with the
+    view's zenith angle (the limb's light, seen next to the horizontal): from 33 m under Mars's top the tables'
+    order 2 read 1.2-1.9 times the reference's looking at the zenith and 0.24-0.31 times at a zenith cosine of 0.1
+    (``benchmarks/top_views.py``); :func:`lookup.get_scattering` reads these tables in the top row's place for
+    such rays."""
+    W = density.shape[-1] // 2
+    h = np.array([(1.0 - ZERO_RAY_LENGTH) * atm.thickness_m])
+    beta_r, beta_m = (b[0] for b in atm.scattering(h))
+    beta = beta_r + beta_m
+    rho_r, rho_m = atm.rayleigh.profile.density(h)[0], atm.mie.profile.density(h)[0]
+    share_r = np.where(beta > 0.0, rho_r / np.where(beta > 0.0, beta, 1.0), 0.0)
+    share_m = np.where(beta > 0.0, rho_m / np.where(beta > 0.0, beta, 1.0), 0.0)
+    return density[..., :W] * share_r, density[..., W:] * share_m
 
 
 class _DensityKernels:
@@ -608,8 +658,9 @@ def first_two_orders(tables, atm, sizes, directions=None, quadrature=None):
     scattering density's direction quadrature ``directions`` (n_theta, n_phi; default ``sizes.directions``) of the
     kind ``quadrature`` (``QUADRATURES``; default ``sizes.quadrature``). What the reference's ``max_order=2`` is
     compared with (benchmarks/tables_orders.py)."""
-    ms, ms_mie, irradiance, _ = multiple_scattering(tables, atm, sizes.multiple, *(directions or sizes.directions),
-                                                    samples=sizes.multiple_samples, tolerance=0.0, max_orders=2,
-                                                    quadrature=quadrature or sizes.quadrature)
-    return replace(tables, multiple=ms.astype(np.float32), multiple_mie=ms_mie.astype(np.float32),
-                   irradiance=irradiance.astype(np.float32))
+    out = multiple_scattering(tables, atm, sizes.multiple, *(directions or sizes.directions),
+                              samples=sizes.multiple_samples, tolerance=0.0, max_orders=2,
+                              quadrature=quadrature or sizes.quadrature)
+    return replace(tables, multiple=out.multiple.astype(np.float32), multiple_mie=out.multiple_mie.astype(np.float32),
+                   irradiance=out.irradiance.astype(np.float32), top_multiple=out.top.astype(np.float32),
+                   top_multiple_mie=out.top_mie.astype(np.float32))

@@ -13,14 +13,15 @@ Stages (each a function of the atmosphere and the table sizes):
    divided by the ray's scattering opacity (``lookup.ray_opacity``), kept apart and without phase (applied
    at render time, Mie per wavelength with its DHG). The view transmittance and density depend on (r, mu, t)
    only; only T_sun(r_t, mu_s,t) with mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
-3. ``multiple_scattering`` (tables/multiple.py): orders >= 2 and the indirect irradiance.
+3. ``multiple_scattering`` (tables/multiple.py): orders >= 2, the indirect irradiance, and the top tables of views
+   upward at the top of the atmosphere (``multiple.top_source``).
 
 The sun's direct irradiance E_0 = T_sun max(mu_s, 0) (point sun) is not tabulated: it is read from the
 transmittance table where needed.
 
 Radiance is per unit solar irradiance; tables are float32: optical depth and scattering share (n_r, n_mu, W), irradiance
 (n_r, n_mu_s, W), scattering (n_r, n_mu, n_nu, n_mu_s, W), which is the 3D texture (n_r, n_mu,
-n_nu * n_mu_s) the shader samples.
+n_nu * n_mu_s) the shader samples, the top tables (n_mu / 2, n_nu, n_mu_s, W), a 2D texture (n_mu / 2, n_nu * n_mu_s).
 """
 from __future__ import annotations
 
@@ -80,6 +81,8 @@ class Tables:
     mie: np.ndarray
     multiple: np.ndarray | None = None
     multiple_mie: np.ndarray | None = None
+    top_multiple: np.ndarray | None = None       # (n_mu / 2, n_nu, n_mu_s, W) multiple.top_source, molecules
+    top_multiple_mie: np.ndarray | None = None   # and particles
     scattering_share: np.ndarray | None = None   # (n_r, n_mu, W) on the transmittance table's grid
     r_axis: np.ndarray | None = None     # the 4D tables' r axis (parameterization.r_axis); None: rho / H
     timings: dict = field(default_factory=dict)
@@ -89,7 +92,7 @@ class Tables:
     @property
     def nbytes(self) -> int:
         tables = (self.optical_depth, self.scattering_share, self.irradiance, self.rayleigh, self.mie, self.multiple,
-                  self.multiple_mie)
+                  self.multiple_mie, self.top_multiple, self.top_multiple_mie)
         return sum(a.nbytes for a in tables if a is not None)
 
 
@@ -240,6 +243,8 @@ def stage_shapes(sizes: TableSizes, n_wavelengths: int) -> dict:
             "single_scattering": {"rayleigh": (n_r, n_mu, n_nu, n_mu_s, W), "mie": (n_r, n_mu, n_nu, n_mu_s, W)},
             "multiple_scattering": {"multiple": (m_r, m_mu, m_nu, m_mu_s, W),
                                     "multiple_mie": (m_r, m_mu, m_nu, m_mu_s, W),
+                                    "top_multiple": (m_mu // 2, m_nu, m_mu_s, W),
+                                    "top_multiple_mie": (m_mu // 2, m_nu, m_mu_s, W),
                                     "irradiance": sizes.irradiance[::-1] + (W,)}}
 
 
@@ -320,14 +325,17 @@ def precompute(atm, sizes: TableSizes = TableSizes(), multiple: bool = True, pro
     tables.rayleigh, tables.mie = single["rayleigh"], single["mie"]
     tables.multiple = np.zeros(shapes["multiple"], np.float32)
     tables.multiple_mie = np.zeros_like(tables.multiple)
+    tables.top_multiple = np.zeros(shapes["top_multiple"], np.float32)
+    tables.top_multiple_mie = np.zeros_like(tables.top_multiple)
     if multiple:
         def orders():
-            ms, ms_mie, irr, n = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions,
-                                                     samples=sizes.multiple_samples, tolerance=sizes.tolerance,
-                                                     progress=progress, quadrature=sizes.quadrature)
-            return {"multiple": ms, "multiple_mie": ms_mie, "irradiance": irr}, {"orders": int(n)}
+            out = multiple_scattering(tables, atm, sizes.multiple, *sizes.directions, samples=sizes.multiple_samples,
+                                      tolerance=sizes.tolerance, progress=progress, quadrature=sizes.quadrature)
+            return ({"multiple": out.multiple, "multiple_mie": out.multiple_mie, "irradiance": out.irradiance,
+                     "top_multiple": out.top, "top_multiple_mie": out.top_mie}, {"orders": int(out.orders)})
         ms = stages.run("multiple_scattering", orders)
         tables.multiple, tables.multiple_mie, tables.irradiance = ms["multiple"], ms["multiple_mie"], ms["irradiance"]
+        tables.top_multiple, tables.top_multiple_mie = ms["top_multiple"], ms["top_multiple_mie"]
         tables.orders = int(ms["attrs"]["orders"])
     tables.timings, tables.computed = stages.timings, stages.computed
     return tables

@@ -14,7 +14,8 @@ def single_scattering_only(tables):
     """``tables`` with the multiple-scattering and sky-irradiance tables set to 0: what they read is their single
     scattering and directly lit ground, the part reference/single.py computes."""
     return replace(tables, multiple=np.zeros_like(tables.multiple), multiple_mie=np.zeros_like(tables.multiple_mie),
-                   irradiance=np.zeros_like(tables.irradiance))
+                   top_multiple=np.zeros_like(tables.top_multiple),
+                   top_multiple_mie=np.zeros_like(tables.top_multiple_mie), irradiance=np.zeros_like(tables.irradiance))
 
 
 def altitude_rays(atm, altitude, mus, sun_elevations_deg=(5, 20, 60), azimuths_deg=(0, 45, 90, 135, 180)):
