@@ -309,3 +309,34 @@ def test_first_two_orders_inside_an_optically_thick_large_planet():
     assert ok.sum() >= 24
     assert np.sqrt(np.mean(noise[ok] ** 2)) < 0.03
     assert np.sqrt(np.mean(err ** 2)) < 0.06, np.round(err, 3)
+
+
+@pytest.mark.parametrize("quadrature", ["hemispheres", "lit-band"])
+def test_the_phase_kernels_cells_tile_the_sphere_around_their_directions(quadrature):
+    # The particles' phase kernels integrate P_M over each direction's cell (multiple._cells). The cells must tile
+    # the half-sphere of azimuths [0, pi] and hold their own directions: then the sub-samples, each weighing its
+    # cell's weight / m^2, integrate mu^2 and sin^2(theta) cos^2(phi) over it, 2 pi / 3 each, to within the
+    # midpoint rule's error on m x m sub-cells (|f''| <= 2 in mu and in phi: at most 2 pi x 2 / (24 m^2) summed
+    # over the cells, 0.033 for m = 4). Cells that overlapped or left a gap would be off by their area times ~1.
+    from planetviz.tables.multiple import QUADRATURES, _cells, direction_quadrature, scattering_top
+    n_theta, n_phi, m = 10, 10, 4
+    mars = load_atmosphere("mars")
+    r = mars.bottom_radius_m + np.array([0.0, 2e3, 3e4, mars.thickness_m])
+    mu_s = np.array([-0.3, -0.05, 0.2, 1.0])
+    if quadrature == "hemispheres":
+        dirs, weights = direction_quadrature(n_theta, n_phi)
+    else:
+        dirs, weights = QUADRATURES[quadrature](r, mu_s, mars.bottom_radius_m, scattering_top(mars), n_theta, n_phi)
+    sub = _cells(dirs, weights, n_phi, m)                                  # (..., K, m^2, 3)
+    w = weights[..., None] / m ** 2
+    bound = 2 * np.pi * 2 / (24 * m ** 2)
+    assert np.allclose(np.sum(w * sub[..., 2] ** 2, axis=(-2, -1)), 2 * np.pi / 3, atol=bound)
+    assert np.allclose(np.sum(w * sub[..., 0] ** 2, axis=(-2, -1)), 2 * np.pi / 3, atol=bound)
+    assert np.all(sub[..., 1] >= 0.0)                                      # azimuths within [0, pi]
+    # Each direction lies in its own cell: its sub-samples' cosines and azimuths bracket it.
+    cos_lo, cos_hi = sub[..., 2].min(-1), sub[..., 2].max(-1)
+    phi = np.arctan2(sub[..., 1], sub[..., 0])
+    spread = (cos_hi - cos_lo) / (m - 1) / 2 + 1e-12
+    assert np.all((dirs[..., 2] >= cos_lo - spread) & (dirs[..., 2] <= cos_hi + spread))
+    phi_d = np.arctan2(dirs[..., 1], dirs[..., 0])
+    assert np.all(np.abs(phi_d - phi.mean(-1)) <= np.pi / n_phi / 2 + 1e-9)
