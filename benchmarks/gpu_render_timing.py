@@ -29,7 +29,7 @@ import numpy as np
 
 
 #: The tables the prepared file holds: those whose precompute needs SciPy.
-MULTIPLE_TABLES = ("irradiance", "multiple", "multiple_mie")
+MULTIPLE_TABLES = ("irradiance", "multiple", "multiple_mie", "top_multiple", "top_multiple_mie")
 #: Points per path of the timed quick view: the application's default (Scene's quick_samples).
 QUICK_SAMPLES = 8
 
@@ -320,7 +320,8 @@ BREAKDOWN = {
 
 _NO_HORIZON = ("float share = horizon_share(a, mu);", "float share = 0.0;")
 _NO_NEAR_GROUND = ("if (near_ground_rays(a, intersects_ground)) {", "if (false) {")
-_NO_ROW_FACTOR = ("* ground_row_factor(a, mu, intersects_ground, multiple_size.w, multiple_row_1_rho, g);", ";")
+_NO_ROW_FACTOR = ("vec4 row = ground_row_factor(a, mu, intersects_ground, multiple_size.w, multiple_row_1_rho, g);",
+                  "vec4 row = vec4(1.0);")
 #: Shader variants of the per-pixel breakdown: replacements in the per-pixel renderer's code, and what they show.
 PIXEL_BREAKDOWN = {
     "no horizon quadrature": [_NO_HORIZON],
@@ -328,10 +329,12 @@ PIXEL_BREAKDOWN = {
     "no ground-row factor": [_NO_ROW_FACTOR],
     "none of the three": [_NO_HORIZON, _NO_NEAR_GROUND, _NO_ROW_FACTOR],
     "multiple-scattering tables not read": [
-        ("vec4 s_ms = get_scattering(multiple_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, opacity, g);",
-         "vec4 s_ms = vec4(0.0);"),
-        ("vec4 s_ms_mie = get_scattering(multiple_mie_texture, multiple_size, a, mu, mu_s, nu, intersects_ground, "
-         "opacity, g);", "vec4 s_ms_mie = vec4(0.0);")],
+        ("""    return ScatteringParts(s_r, s_m,
+        get_multiple_scattering(multiple_texture, top_multiple_texture, multiple_size, a, mu, mu_s, nu,
+                                intersects_ground, opacity, g) * row,
+        get_multiple_scattering(multiple_mie_texture, top_multiple_mie_texture, multiple_size, a, mu, mu_s, nu,
+                                intersects_ground, opacity, g) * row);""",
+         "    return ScatteringParts(s_r, s_m, vec4(0.0), vec4(0.0));")],
 }
 
 
