@@ -172,11 +172,12 @@ def scattering_top(atm, share=LIT_AIR_SHARE):
 #: The linear share l of :func:`lit_band_quadrature`'s sky cosines outside the band (:func:`_toward_horizon`):
 #: clustered toward the horizon for twilight, less than x^2 so that the sky near the zenith, where a forward lobe
 #: gathers its light, keeps nodes. Chosen on the tuning split: the presets' 12 daylight rays at standard
-#: (benchmarks/tables_vs_reference.py) read Mars 2.45% / 1.77% / 1.61% / 1.89% RMS at l = 0 / 0.5 / 0.75 / 1
-#: (40 cosines: 1.31%; noise 0.35%), the 10-bar planet 1.28% / 1.27% / 1.23% / 1.16% (40 cosines 1.23%, noise
-#: 0.93%: below resolution) and Earth 0.28% / 0.28% / 0.29% / 0.29% (noise 0.09%); the first two orders in deep
-#: twilight (benchmarks/tables_orders.py) 59.7% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top 28.5% /
-#: 35.0% / - / 38.7% (noise 9.4%).
+#: (benchmarks/tables_vs_reference.py) read Mars 2.63% / 1.87% / 1.66% / 1.75% RMS at l = 0 / 0.5 / 0.75 / 1
+#: (noise 0.35%), the 10-bar planet 1.27% / 1.26% / 1.22% / 1.15% (noise 0.93%: below resolution) and Earth 0.27% /
+#: 0.27% / 0.28% / 0.28% (noise 0.09%); with the phase kernels sampled at the directions instead of integrated over
+#: their cells (``_mie_kernels``), Mars 2.45% / 1.77% / 1.61% / 1.89% (40 cosines: 1.31%) and the first two orders in
+#: deep twilight (benchmarks/tables_orders.py) 59.7% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top
+#: 28.5% / 35.0% / - / 38.7% (noise 9.4%).
 LIT_BAND_SKY_LINEAR = 0.5
 
 
