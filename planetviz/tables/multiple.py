@@ -18,9 +18,9 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
    direction, with no seam at the horizon, where S's distance-based mu axis squeezes every view below the
    horizon from low altitude next to the nadir texel):
    the Rayleigh-like part (a + b (w . v)^2) from the zeroth and second angular moments of L, which the
-   quadrature integrates exactly; the Mie part from kernels that integrate P_M over each direction's cell of the
-   quadrature (``_mie_kernels``: a coarse direction set cannot resolve a forward peak at its directions alone),
-   renormalised so that they integrate P_M to 1 per texel (which keeps the energy);
+   quadrature integrates exactly; the Mie part from a kernel renormalised so that it integrates P_M to 1
+   per texel (``_mie_kernels``: a coarse direction set cannot resolve a forward peak: renormalising keeps energy
+   right);
 3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only), the particles'
    part renormalised for their lobe toward the sun (``lobe_irradiance_factors``);
 4. S_n(r, mu, mu_s, nu) = int_0^d T(x, x_t) J_n(r_t, mu_t, mu_s,t, nu) dt (J read from its table; Gauss-Legendre
@@ -172,12 +172,11 @@ def scattering_top(atm, share=LIT_AIR_SHARE):
 #: The linear share l of :func:`lit_band_quadrature`'s sky cosines outside the band (:func:`_toward_horizon`):
 #: clustered toward the horizon for twilight, less than x^2 so that the sky near the zenith, where a forward lobe
 #: gathers its light, keeps nodes. Chosen on the tuning split: the presets' 12 daylight rays at standard
-#: (benchmarks/tables_vs_reference.py) read Mars 2.63% / 1.87% / 1.66% / 1.75% RMS at l = 0 / 0.5 / 0.75 / 1
-#: (noise 0.35%), the 10-bar planet 1.27% / 1.26% / 1.22% / 1.15% (noise 0.93%: below resolution) and Earth 0.27% /
-#: 0.27% / 0.28% / 0.28% (noise 0.09%); with the phase kernels sampled at the directions instead of integrated over
-#: their cells (``_mie_kernels``), Mars 2.45% / 1.77% / 1.61% / 1.89% (40 cosines: 1.31%) and the first two orders in
-#: deep twilight (benchmarks/tables_orders.py) 59.7% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top
-#: 28.5% / 35.0% / - / 38.7% (noise 9.4%).
+#: (benchmarks/tables_vs_reference.py) read Mars 2.45% / 1.77% / 1.61% / 1.89% RMS at l = 0 / 0.5 / 0.75 / 1
+#: (40 cosines: 1.31%; noise 0.35%), the 10-bar planet 1.28% / 1.27% / 1.23% / 1.16% (40 cosines 1.23%, noise
+#: 0.93%: below resolution) and Earth 0.28% / 0.28% / 0.29% / 0.29% (noise 0.09%); the first two orders in deep
+#: twilight (benchmarks/tables_orders.py) 59.7% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top 28.5% /
+#: 35.0% / - / 38.7% (noise 9.4%).
 LIT_BAND_SKY_LINEAR = 0.5
 
 
@@ -314,10 +313,15 @@ def _view_vectors(mu, mu_s, nu):
     return np.stack([vx, vy, mu], -1)
 
 
-#: Sub-samples per side of a direction's cell in the particles' phase kernels (``_mie_kernels``): each kernel is the
-#: phase function integrated over the cell by the midpoint rule on KERNEL_CELL_SAMPLES^2 points, not sampled at the
-#: cell's direction alone; 1 samples it there.
-KERNEL_CELL_SAMPLES = 2
+#: Sub-samples per side of a direction's cell in the particles' phase kernels (``_mie_kernels``): 1 samples the
+#: phase function at the direction; n > 1 integrates it over the direction's cell by the midpoint rule on n^2 points.
+#: 1 at every level: with 2 the light the dust's lobe sends down from the limb to a camera just under Mars's top
+#: follows the view within 0-4% (the point rule's 5-46% high), but the lobe's weight then goes to the one direction
+#: of its cell, where the point rule, renormalised, spreads it over the directions next to its axis, and order 2 from
+#: Mars's ground 45 deg up away from the sun reads 7.9-11.4% low against its direct integration (2.0-4.2% with 1;
+#: tests/test_multiple_scattering.py); the suite by day moves by less than its noise either way (docs/benchmarks.md,
+#: "Orders above the first near the top").
+KERNEL_CELL_SAMPLES = 1
 
 
 def _cells(dirs, weights, n_phi, samples):
@@ -343,17 +347,17 @@ def _cells(dirs, weights, n_phi, samples):
 
 
 def _mie_kernels(atm, views, dirs, weights, n_phi, n_r, samples=KERNEL_CELL_SAMPLES):
-    """Per wavelength, the renormalised kernel of each direction w_k, its cell's integral of
-    P_M(v . w) + P_M(v . w') (w' the mirror image about the sun's plane) by :func:`_cells`' sub-samples,
+    """Per wavelength, the renormalised kernel of each direction w_k, P_M(v . w_k) + P_M(v . w_k') times its weight
+    (w' the mirror image about the sun's plane), or with ``samples`` > 1 its cell's integral of the same by
+    :func:`_cells`' sub-samples,
     (n_r, n_mu_s, n_mu, n_nu, K), float32, for the views (n_mu, n_nu, n_mu_s, 3) at every point (r, mu_s) and the
     directions ``dirs`` (K, 3) with ``weights`` (K,) (the same at every point), or per point (n_r, n_mu_s, K, 3)
     and (n_r, n_mu_s, K).
 
     A forward lobe narrower than a direction's cell (g = 0.88: the half width at half maximum is 5.6 deg, the cells
-    of 10 azimuths over pi are 18 deg wide) sampled at the cell's direction alone weighs the cell's light by where
-    the lobe's axis falls between directions; the cell integral weighs it by the share of the lobe in the cell.
-    The sum over the cells is then near 1 and the renormalisation to 1 (which keeps the energy) changes little.
-    Points whose directions and views agree to 1e-6 (at a given r, every sun above the horizon) share a kernel:
+    of 10 azimuths over pi are 18 deg wide) sampled at the directions misses most of its weight, which the
+    renormalisation to 1 (which keeps the energy) spreads over the directions next to its axis; the cell integral
+    gives each cell its share of the lobe (``KERNEL_CELL_SAMPLES`` says which the levels use and why). Points whose directions and views agree to 1e-6 (at a given r, every sun above the horizon) share a kernel:
     it is computed once per distinct point."""
     n_mu_s = views.shape[2]
     dirs = np.broadcast_to(dirs, (n_r, n_mu_s) + dirs.shape[-2:])
@@ -651,7 +655,7 @@ def top_source(atm, density):
 class _DensityKernels:
     """The scattering density J on its own grid (S's mu_s texels and r rows, THICK_DENSITY_ROWS times as many
     rows in a thick atmosphere), per unit density of each component: the Rayleigh-like phase
-    (1 + A c^2) / (4 pi (1 + A / 3)) by moments of the incident light, Mie by renormalised cell kernels
+    (1 + A c^2) / (4 pi (1 + A / 3)) by moments of the incident light, Mie by renormalised kernels
     (``_mie_kernels``), the particles' part divided by F(nu) (``forward_factor``)."""
 
     def __init__(self, atm, size, mu_s, dirs, weights, density_shape, n_phi):
