@@ -176,7 +176,7 @@ def scattering_top(atm, share=LIT_AIR_SHARE):
 #: (40 cosines: 1.31%; noise 0.35%), the 10-bar planet 1.28% / 1.27% / 1.23% / 1.16% (40 cosines 1.23%, noise
 #: 0.93%: below resolution) and Earth 0.28% / 0.28% / 0.29% / 0.29% (noise 0.09%); the first two orders in deep
 #: twilight (benchmarks/tables_orders.py) 59.7% / 59.7% / - / 64.2% RMS, from cameras within 100 m of the top 28.5% /
-#: 35.0% / - / 38.7% (noise 9.4%).
+#: 35.0% / - / 38.7% (noise 9.4%; without the top tables, ``top_source``).
 LIT_BAND_SKY_LINEAR = 0.5
 
 
