@@ -357,8 +357,9 @@ def _mie_kernels(atm, views, dirs, weights, n_phi, n_r, samples=KERNEL_CELL_SAMP
     A forward lobe narrower than a direction's cell (g = 0.88: the half width at half maximum is 5.6 deg, the cells
     of 10 azimuths over pi are 18 deg wide) sampled at the directions misses most of its weight, which the
     renormalisation to 1 (which keeps the energy) spreads over the directions next to its axis; the cell integral
-    gives each cell its share of the lobe (``KERNEL_CELL_SAMPLES`` says which the levels use and why). Points whose directions and views agree to 1e-6 (at a given r, every sun above the horizon) share a kernel:
-    it is computed once per distinct point."""
+    gives each cell its share of the lobe (``KERNEL_CELL_SAMPLES`` says which the levels use and why). Points whose
+    directions and views agree to 1e-6 (at a given r, every sun above the horizon) share a kernel: it is computed
+    once per distinct point."""
     n_mu_s = views.shape[2]
     dirs = np.broadcast_to(dirs, (n_r, n_mu_s) + dirs.shape[-2:])
     weights = np.broadcast_to(weights, (n_r, n_mu_s) + weights.shape[-1:])
@@ -372,16 +373,15 @@ def _mie_kernels(atm, views, dirs, weights, n_phi, n_r, samples=KERNEL_CELL_SAMP
     n = 4096
     phase_table = atm.mie.phase_function(np.linspace(-1.0, 1.0, n + 1)).astype(np.float32)
     lobes = [(atm.mie.g1[w], atm.mie.g2[w], atm.mie.alpha[w]) for w in range(atm.n_wavelengths)]
-    distinct = list(dict.fromkeys(lobes))          # wavelengths with the same phase function share one kernel
-    sums = {lobe: np.zeros(v.shape[:2] + sub.shape[1:2], np.float32) for lobe in distinct}
+    tabs = {lobe: phase_table[:, lobes.index(lobe)] for lobe in lobes}    # one kernel per distinct phase function
+    sums = {lobe: np.zeros(v.shape[:2] + sub.shape[1:2], np.float32) for lobe in tabs}
     for mirror in (np.float32([1.0, 1.0, 1.0]), np.float32([1.0, -1.0, 1.0])):
         for q in range(sub.shape[2]):
             c = np.einsum("uvi,uki->uvk", v, sub[:, :, q] * mirror)
             x = (c + np.float32(1.0)) * np.float32(n / 2.0)
             i = np.clip(x.astype(np.int32), 0, n - 1)
             f = x - i
-            for lobe in distinct:
-                tab = phase_table[:, lobes.index(lobe)]
+            for lobe, tab in tabs.items():
                 lower = np.take(tab, i)
                 sums[lobe] += lower + f * (np.take(tab, i + 1) - lower)
     out = {}
@@ -647,9 +647,8 @@ def top_source(atm, density):
     beta_r, beta_m = (b[0] for b in atm.scattering(h))
     beta = beta_r + beta_m
     rho_r, rho_m = atm.rayleigh.profile.density(h)[0], atm.mie.profile.density(h)[0]
-    share_r = np.where(beta > 0.0, rho_r / np.where(beta > 0.0, beta, 1.0), 0.0)
-    share_m = np.where(beta > 0.0, rho_m / np.where(beta > 0.0, beta, 1.0), 0.0)
-    return density[..., :W] * share_r, density[..., W:] * share_m
+    per_beta = np.where(beta > 0.0, 1.0 / np.where(beta > 0.0, beta, 1.0), 0.0)
+    return density[..., :W] * rho_r * per_beta, density[..., W:] * rho_m * per_beta
 
 
 class _DensityKernels:
