@@ -3,7 +3,7 @@ presets, per light class and camera class, for the tuning and the held-out split
 
     python benchmarks/tables_orders.py [--split tuning held-out] [--atmospheres 8] [--paths 16384]
                                        [--presets earth mars exo-co2-thick] [--directions N_THETA N_PHI ...]
-                                       [--quadrature lit-band hemispheres horizon] [--worst 10]
+                                       [--quadrature lit-band hemispheres horizon] [--worst 10] [--rows N]
 
 The same atmospheres and rays as benchmarks/tables_suite.py. The tables' orders 1 and 2 (the multiple-scattering
 stage stopped after order 2, its sky irradiance then that of order 1) against the reference solver's
@@ -15,7 +15,8 @@ scattering density (cosines over both hemispheres, azimuths over half the circle
 by default the quality level's own; ``--quadrature`` one or more of its kinds (``multiple.QUADRATURES``, by default
 the quality level's ``lit-band``: split at each point's horizon and at the band of lit air seen from the planet's
 shadow; ``horizon``: split at the horizon, clustered toward it; ``hemispheres``: Gauss-Legendre on each side of the
-horizontal at every point), each with every ``--directions``.
+horizontal at every point), each with every ``--directions``. ``--rows N``: the multiple-scattering tables get at
+least N r rows (``precompute.sizes_for``'s other rules kept).
 
 Printed per quadrature, split and light class: the number of values (ray x wavelength, the reference above
 1e-12 / sr and its relative standard error below 20%, cameras within 100 m of the top apart), the RMS, median and
@@ -24,6 +25,7 @@ the top, whose radiance of order 2 in deep twilight is 1e-13 to 1e-11 / sr; then
 with their atmosphere and ray class.
 """
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +47,8 @@ def compare(split, args, quadratures):
     cache = TableCache()
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
         sizes = sizes_for(atm, QUALITY["standard"])
+        if args.rows:
+            sizes = replace(sizes, multiple=sizes.multiple[:3] + (max(sizes.multiple[3], args.rows),))
         tables = precompute(atm, QUALITY["standard"], cache=cache)
         two_orders = {q: first_two_orders(tables, atm, sizes, q[1] or sizes.directions, quadrature=q[0])
                       for q in quadratures}
@@ -95,6 +99,8 @@ def main():
     ap.add_argument("--quadrature", nargs="+", default=[QUALITY["standard"].quadrature], choices=QUADRATURES)
     ap.add_argument("--directions", type=int, nargs="+", metavar="N",
                     help="pairs N_THETA N_PHI of the scattering density's direction quadrature")
+    ap.add_argument("--rows", type=int, default=0, metavar="N",
+                    help="at least N r rows in the multiple-scattering tables")
     args = ap.parse_args()
     if args.directions and len(args.directions) % 2:
         ap.error("--directions: pairs N_THETA N_PHI")
