@@ -4,6 +4,7 @@ tuning and the held-out split.
     python benchmarks/tables_suite.py [--split tuning held-out] [--atmospheres 8] [--rays 2] [--quality standard]
                                       [--paths 4096] [--presets earth mars exo-co2-thick] [--worst 10] [--single]
                                       [--conditions] [--multiple N_NU N_MU_S N_MU N_R]
+                                      [--scattering N_NU N_MU_S N_MU N_R]
                                       [--quadrature hemispheres|horizon|lit-band]
 
 Atmospheres: planetviz.validation.random_atmosphere over the first ``--atmospheres`` seeds of each split (the
@@ -24,9 +25,9 @@ multiple-scattering and sky-irradiance tables set to 0) with the deterministic q
 planetviz/reference/single.py, which has no noise (relative error below 1e-4): most of the light by day, and
 resolvable at any level. The difference is taken relative to the whole radiance (the stored reference's, all
 orders), so that a ray whose first order is a small part of its light (the twilight sky seen from the planet's
-shadow) weighs by that part; the noise column is then 0. ``--multiple`` sets the multiple-scattering tables' size
-(n_nu, n_mu_s, n_mu, n_r) in place of the quality level's, ``--quadrature`` the kind of the scattering density's
-direction quadrature (``planetviz.tables.multiple.QUADRATURES``).
+shadow) weighs by that part; the noise column is then 0. ``--scattering`` and ``--multiple`` set the single- and
+the multiple-scattering tables' sizes (n_nu, n_mu_s, n_mu, n_r) in place of the quality level's, ``--quadrature``
+the kind of the scattering density's direction quadrature (``planetviz.tables.multiple.QUADRATURES``).
 """
 import argparse
 from dataclasses import replace
@@ -62,6 +63,8 @@ def compare(split, args):
     sizes = QUALITY[args.quality]
     if args.multiple:
         sizes = replace(sizes, multiple=tuple(args.multiple))
+    if args.scattering:
+        sizes = replace(sizes, scattering=tuple(args.scattering))
     if args.quadrature:
         sizes = replace(sizes, quadrature=args.quadrature)
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
@@ -136,6 +139,8 @@ def main():
                     help="also the daylight errors grouped by planetviz.tables.validated's conditions")
     ap.add_argument("--multiple", type=int, nargs=4, metavar=("N_NU", "N_MU_S", "N_MU", "N_R"),
                     help="the multiple-scattering tables' size instead of the quality level's")
+    ap.add_argument("--scattering", type=int, nargs=4, metavar=("N_NU", "N_MU_S", "N_MU", "N_R"),
+                    help="the single-scattering tables' size instead of the quality level's")
     ap.add_argument("--quadrature", choices=list(QUADRATURES),
                     help="the scattering density's direction quadrature instead of the quality level's")
     args = ap.parse_args()
