@@ -42,20 +42,20 @@ def pixel_directions(camera, rows, cols):
 
 
 def render(path, out):
-    from gpu_render_timing import _PreparedActor, offscreen_window, set_camera
+    from gpu_render_timing import offscreen_window, prepared_actor, set_camera
     from planetviz.render.hdr import render_spectral
     from planetviz.render.uniforms import camera_uniforms
+    from planetviz import load_atmosphere
     data = np.load(path)
-    R = float(data["bottom"])
+    R = load_atmosphere("earth").bottom_radius_m
     window, renderer = offscreen_window(SIZE)
     h, w = (int(v) for v in SIZE.split("x")[::-1])
     rows, cols = np.meshgrid(np.arange(1, h, 4), np.arange(1, w, 4), indexing="ij")
     saved = {}
     for shading in ("pixel", "vertex"):
-        actor = _PreparedActor(data, renderer, False, shading)
+        actor = prepared_actor(data, renderer, False, shading)
         # The uniform albedo of the atmosphere file instead of the colour map (the evaluator's ground).
         actor.textures.surface = None
-        actor.atmosphere.n_wavelengths = 3
         for store in getattr(actor, "_stores", None) or [actor._store]:
             store.update({"use_surface_texture": ("i", 0), "surface_face_size": ("f", 1.0)})
         actor.settings.show_sun = False

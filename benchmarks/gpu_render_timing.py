@@ -318,7 +318,7 @@ BREAKDOWN = {
     "no tone mapping or sRGB encoding": [("vec4(display_colour(value), 1.0)", "vec4(value, 1.0)")],
 }
 
-_NO_HORIZON = ("float share = horizon_share(a, mu);", "float share = 0.0;")
+_NO_HORIZON = ("float share = quadrature_share(a, mu, mu_s, nu, intersects_ground);", "float share = 0.0;")
 _NO_NEAR_GROUND = ("if (near_ground_rays(a, intersects_ground)) {", "if (false) {")
 _NO_ROW_FACTOR = ("vec4 row = ground_row_factor(a, mu, intersects_ground, multiple_size.w, multiple_row_1_rho, g);",
                   "vec4 row = vec4(1.0);")

@@ -13,16 +13,20 @@
 // Uniforms: those of view.glsl (the camera, the sun, the output channels, the albedo), and
 //   view_samples           int    n, points on the view path
 //   density_samples        int    m, points on each optical-depth path
-//   view_edges             float[MAX_SAMPLES + 1]  the edges (i / n)^e of the view path's intervals, i = 0 .. n
-//                                 (e = 3, the paper's power law, or 1, equidistant)
-//   density_edges          float[MAX_SAMPLES + 1]  the same (j / m)^e of an optical-depth path (e = 2 or 1)
+//   view_edges             vec4[EDGE_VECTORS]  the edges (i / n)^e of the view path's intervals, i = 0 .. n,
+//                                 four to a vector (view_edge(i)); e = 3, the paper's power law, or 1, equidistant
+//   density_edges          vec4[EDGE_VECTORS]  the same (j / m)^e of an optical-depth path (e = 2 or 1;
+//                                 density_edge(j))
 //   rayleigh_scattering    vec4[MAX_GROUPS]  beta_R^s at the ground [1/m]
 //   mie_scattering         vec4[MAX_GROUPS]  beta_M^s at the ground [1/m]
 //   component_extinction   vec4[MAX_COMPONENTS * MAX_GROUPS]  [k * MAX_GROUPS + g]: extinction of component k [1/m]
 //   component_profile      vec3[MAX_COMPONENTS]  (scale height, 0, 0) exponential; (centre, half width, 0) tent;
 //                                 (top altitude, 0, 0) tabulated in component_table[k] at PROFILE_TABLE_SIZE
 //                                 altitudes from 0 to the top, read linearly
-//   component_table        float[MAX_COMPONENTS * PROFILE_TABLE_SIZE]
+//   component_table        vec4[MAX_COMPONENTS * PROFILE_TABLE_SIZE / 4]  the tabulated profiles, four values to
+//                                 a vector (component_value(k * PROFILE_TABLE_SIZE + i))
+// The float arrays are packed four to a vec4: a GPU gives each element of a float array a whole vector register of
+// the vertex stage's 1024 (NVIDIA's limit; unpacked, these three took 898 and the program did not link).
 //   artistic_terms         int    1: Table 1's phases 1 + 0.5 nu^2 and HG without 1 / (4 pi) (coefficients are
 //                                 uploaded already scaled, planetviz/quick_view/single_scattering.py _coefficients)
 //   multiple_scattering    int    1: add the orders above the first and the sky's light on the ground; 0: single
@@ -58,18 +62,24 @@
 
 uniform int view_samples;
 uniform int density_samples;
-uniform float view_edges[MAX_SAMPLES + 1];
-uniform float density_edges[MAX_SAMPLES + 1];
+#define EDGE_VECTORS ((MAX_SAMPLES + 4) / 4)
+uniform vec4 view_edges[EDGE_VECTORS];
+uniform vec4 density_edges[EDGE_VECTORS];
 uniform vec4 rayleigh_scattering[MAX_GROUPS];
 uniform vec4 mie_scattering[MAX_GROUPS];
 uniform vec4 component_extinction[MAX_COMPONENTS * MAX_GROUPS];
 uniform vec3 component_profile[MAX_COMPONENTS];
-uniform float component_table[MAX_COMPONENTS * PROFILE_TABLE_SIZE];
+uniform vec4 component_table[MAX_COMPONENTS * PROFILE_TABLE_SIZE / 4];
 uniform int artistic_terms;
 uniform int multiple_scattering;
 uniform sampler2D multiple_scattering_texture;
 uniform sampler2D ground_sky_texture;
 uniform vec2 multiple_scattering_size;
+
+// Element i of the packed float arrays (four to a vec4).
+float view_edge(int i) { return view_edges[i / 4][i % 4]; }
+float density_edge(int j) { return density_edges[j / 4][j % 4]; }
+float component_value(int i) { return component_table[i / 4][i % 4]; }
 
 out vec3 quick_view_value;
 out float quick_magnitude;
@@ -86,7 +96,7 @@ float profile_density(int k, float h) {
     float x = clamp(h / p.x, 0.0, 1.0) * float(PROFILE_TABLE_SIZE - 1);
     int i = min(int(x), PROFILE_TABLE_SIZE - 2);
     float f = x - float(i);
-    return mix(component_table[k * PROFILE_TABLE_SIZE + i], component_table[k * PROFILE_TABLE_SIZE + i + 1], f);
+    return mix(component_value(k * PROFILE_TABLE_SIZE + i), component_value(k * PROFILE_TABLE_SIZE + i + 1), f);
 }
 
 // Column coordinate in [0, 1] of a cosine on the tables' grid sign(x) x^2 (cosine_grid in NumPy).
@@ -129,7 +139,7 @@ vec4 path_optical_depth(vec3 start, vec3 direction, float len, int g) {
     vec4 tau = vec4(0.0);
     bool from_end = length(start + len * direction) < length(start);
     for (int j = 0; j < density_samples; ++j) {
-        float a = density_edges[j], b = density_edges[j + 1];
+        float a = density_edge(j), b = density_edge(j + 1);
         float f = 0.5 * (a + b);
         tau += (b - a) * extinction_at(start + ((from_end ? 1.0 - f : f) * len) * direction, g);
     }
@@ -188,7 +198,7 @@ vec4 quick_view_inscatter(vec3 v, int g) {
     vec4 l = vec4(0.0);
     vec4 tau_before = vec4(0.0);            // tau from x to the interval's start (view_optical_depth in NumPy)
     for (int i = 0; i < view_samples; ++i) {
-        float a = view_edges[i], b = view_edges[i + 1];
+        float a = view_edge(i), b = view_edge(i + 1);
         float t = 0.5 * (a + b) * path;
         vec3 p = x + t * v;
         float h = length(p) - bottom_radius;

@@ -53,6 +53,13 @@ def shader_constants(extinction):
             + f"const int component_kinds[MAX_COMPONENTS] = int[]({', '.join(map(str, kinds))});\n")
 
 
+def packed(values):
+    """A float array as the shaders' vec4 arrays hold it (quick_view_vertex.glsl): (ceil(n / 4), 4), zero-padded."""
+    out = np.zeros(-(-len(values) // 4) * 4, np.float32)
+    out[:len(values)] = values
+    return out.reshape(-1, 4)
+
+
 def sample_edges(n, exponent):
     """(MAX_SAMPLES + 1,) the edges (i / n)^exponent, i = 0 .. n, of a path's intervals (then zeros)."""
     edges = np.zeros(MAX_SAMPLES + 1)
@@ -123,11 +130,11 @@ class QuickViewActor(DirectionMeshActor):
         return {
             **atmosphere_uniforms(atm),
             "view_samples": ("i", self.samples), "density_samples": ("i", self.density_samples),
-            "view_edges": ("1fv", sample_edges(self.samples, e_view)),
-            "density_edges": ("1fv", sample_edges(self.density_samples, e_depth)),
+            "view_edges": ("4fv", packed(sample_edges(self.samples, e_view))),
+            "density_edges": ("4fv", packed(sample_edges(self.density_samples, e_depth))),
             "rayleigh_scattering": ("4fv", per_group(b_r)), "mie_scattering": ("4fv", per_group(b_m)),
             "component_extinction": ("4fv", ext.reshape(-1, 4)),
-            "component_profile": ("3fv", prof), "component_table": ("1fv", table.ravel()),
+            "component_profile": ("3fv", prof), "component_table": ("4fv", packed(table.ravel())),
             "artistic_terms": ("i", int(self.terms == "artistic")),
             "multiple_scattering_size": ("2f", (MS_SIZE[1], MS_SIZE[0])),
             "albedo_weights": ("4fv", albedo_weights.reshape(-1, 4)),
