@@ -219,15 +219,24 @@ def get_irradiance(t, r, mu_s, table=None):
     return np.where(below, geometric_blend(low, high, fu), low + (high - low) * fu)
 
 
+def mu_s_pairs(table):
+    """(n_r, n_mu, n_nu, n_mu_s + 1, 2C): the table (n_r, n_mu, n_nu, n_mu_s, C) as pairs of neighbouring mu_s
+    texels, pair i holding texels i - 1 and i side by side, clamped at the edges (pair 0 holds texel 0 twice, pair
+    n_mu_s the last texel twice): what a lookup between texels i - 1 and i (``sampling.texel_axis``) reads along
+    mu_s, in one place."""
+    padded = np.concatenate([table[..., :1, :], table, table[..., -1:, :]], axis=3)
+    return np.concatenate([padded[..., :-1, :], padded[..., 1:, :]], axis=-1)
+
+
 class ScatteringStencil:
     """A 4D lookup in tables of ``shape`` (n_r, n_mu, n_nu, n_mu_s) prepared once for many tables read at the
     same points (the precompute reads every order's table at fixed points). ``mapping`` gives the texture
     coordinates (u_nu, u_mu_s, u_mu, u_r) (S's by default; the scattering density has its own).
 
-    For each point, the eight (r, mu, nu) neighbours at the lower mu_s texel and the eight at the upper one,
-    each set weighted to sum to 1, are kept as two sparse matrices; :meth:`apply` blends the two along mu_s as
-    :func:`get_scattering` does (geometrically), so the precompute reads its own tables as the renderer reads
-    the final ones."""
+    For each point, the eight (r, mu, nu) neighbours, weighted to sum to 1, are kept as one sparse matrix over
+    the table's pairs of neighbouring mu_s texels (:func:`mu_s_pairs`); :meth:`apply` reads both texels of the
+    point's pair and blends them along mu_s as :func:`get_scattering` does (geometrically), so the precompute reads
+    its own tables as the renderer reads the final ones."""
 
     def __init__(self, t, shape, r, mu, mu_s, nu, intersects_ground, mapping=scattering_uvwz_from_r_mu_mu_s_nu):
         from scipy.sparse import csr_matrix
@@ -237,25 +246,26 @@ class ScatteringStencil:
         coord = u_nu * (n_nu - 1)
         tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
         lerp = coord - tex_nu
-        s0, s1, fs = texel_axis(u_mu_s, n_mu_s)
+        fs = texel_axis(u_mu_s, n_mu_s)[2]
+        pair = np.clip(np.floor(np.asarray(u_mu_s, float) * n_mu_s - 0.5) + 1, 0, n_mu_s).astype(np.int64)
         (j0, j1, fy), (k0, k1, fz) = texel_axis(u_mu, n_mu), texel_axis(u_r, n_r)
-        n_x = n_nu * n_mu_s
-        idx, wts = ([], []), ([], [])
-        for dn, wn in ((0, 1.0 - lerp), (1, lerp)):
-            if n_nu == 1 and dn == 1:
-                continue
-            base = (tex_nu + dn).astype(np.int64) * n_mu_s
+        n_x = n_nu * (n_mu_s + 1)
+        self.shape = np.shape(fs)
+        n_points, n_texels = int(np.prod(self.shape)), n_r * n_mu * n_x
+        per_point = 8 if n_nu > 1 else 4
+        index = np.int32 if max(n_points * per_point, n_texels) < 2 ** 31 else np.int64
+        columns = np.empty(self.shape + (per_point,), index)
+        weights = np.empty(self.shape + (per_point,), np.float32)
+        c = 0
+        for dn, wn in ((0, 1.0 - lerp), (1, lerp))[:per_point // 4]:
+            slot = (tex_nu + dn).astype(np.int64) * (n_mu_s + 1) + pair
             for kk, wz in ((k0, 1 - fz), (k1, fz)):
                 for jj, wy in ((j0, 1 - fy), (j1, fy)):
-                    for side, ss in enumerate((s0, s1)):
-                        idx[side].append((kk * n_mu + jj) * n_x + base + ss)
-                        wts[side].append(wn * wz * wy)
-        self.shape = np.shape(fs)
-        n_points, n_texels, per_point = int(np.prod(self.shape)), n_r * n_mu * n_x, len(idx[0])
-        indptr = np.arange(n_points + 1) * per_point
-        self.sides = [csr_matrix((np.stack(w, -1).reshape(-1).astype(np.float32),
-                                  np.stack(i, -1).reshape(-1), indptr), shape=(n_points, n_texels))
-                      for i, w in zip(idx, wts)]
+                    columns[..., c] = (kk * n_mu + jj) * n_x + slot
+                    weights[..., c] = wn * wz * wy
+                    c += 1
+        indptr = np.arange(n_points + 1, dtype=index) * per_point
+        self.matrix = csr_matrix((weights.reshape(-1), columns.reshape(-1), indptr), shape=(n_points, n_texels))
         self.f = fs.reshape(-1, 1).astype(np.float32)
         self.opacity = None
         if mapping is scattering_uvwz_from_r_mu_mu_s_nu:
@@ -266,12 +276,12 @@ class ScatteringStencil:
         """The table (n_r, n_mu, n_nu, n_mu_s, W) at the stencil's points: (..., W); where the table holds
         channels for several components of the same wavelengths (W a multiple of the opacity's), the opacity
         multiplies each."""
-        flat = table.reshape(-1, table.shape[-1])
-        lower, upper = (m @ flat for m in self.sides)
-        out = geometric_blend(lower, upper, self.f)
+        channels = table.shape[-1]
+        both = self.matrix @ mu_s_pairs(table).reshape(-1, 2 * channels)
+        out = geometric_blend(*(np.ascontiguousarray(both[:, k:k + channels]) for k in (0, channels)), self.f)
         if self.opacity is not None:
-            out = out * np.tile(self.opacity, (1, flat.shape[-1] // self.opacity.shape[-1])).astype(np.float32)
-        return out.reshape(self.shape + (flat.shape[-1],))
+            out = out * np.tile(self.opacity, (1, channels // self.opacity.shape[-1])).astype(np.float32)
+        return out.reshape(self.shape + (channels,))
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None, top=None):
@@ -338,9 +348,16 @@ def geometric_blend(a, b, f):
     times too bright near the horizon (tests/test_render.py, the twilight sweep); the floor keeps the
     blend geometric, a decay to ZERO_FLOOR of the lit value over one texel. f < 0 extrapolates beyond a,
     never above a (it only continues a decay)."""
-    a_f = np.maximum(np.maximum(a, ZERO_FLOOR * b), SMALLEST)
-    b_f = np.maximum(np.maximum(b, ZERO_FLOOR * a), SMALLEST)
-    ratio = b_f / a_f                                   # within [ZERO_FLOOR, 1 / ZERO_FLOOR]
+    lit = (a > 0) | (b > 0)
+    a_f = np.maximum(a, ZERO_FLOOR * b)
+    np.maximum(a_f, SMALLEST, out=a_f)
+    ratio = np.maximum(b, ZERO_FLOOR * a)
+    np.maximum(ratio, SMALLEST, out=ratio)
+    ratio /= a_f                                        # within [ZERO_FLOOR, 1 / ZERO_FLOOR]
     if np.any(f < 0):
         ratio = np.where(f < 0, np.maximum(ratio, 1.0), ratio)   # f < 0: the decay continues, never a rise
-    return a_f * np.exp(f * np.log(ratio)) * ((a > 0) | (b > 0))
+    out = np.log(ratio, out=ratio) * f
+    np.exp(out, out=out)
+    out *= a_f
+    out *= lit
+    return out

@@ -667,6 +667,8 @@ class _DensityKernels:
         self.beta_r = np.asarray(atm.rayleigh.scattering_m)
         self.beta_m = np.asarray(atm.mie.scattering_m)
         self.mie_kernels = _mie_kernels(atm, views[0], dirs, weights, n_phi, density_shape[0])
+        self.kernel_groups = [(k, [w for w, other in enumerate(self.mie_kernels) if other is k])
+                              for k in {id(k): k for k in self.mie_kernels}.values()]
         self.forward_j = forward_factor(atm, nu_j)                      # (1, n_mu, n_nu, n_mu_s, W)
         self.weights = weights
         self.shape = density_shape
@@ -687,9 +689,12 @@ class _DensityKernels:
         quad = np.einsum("abcdxy,adxyw->abcdw", self.vv, m2)
         J = np.empty(self.shape + (2 * W,), np.float32)
         J[..., :W] = self.beta_r * (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
-        for w in range(W):
-            J[..., W + w] = self.beta_m[w] * np.einsum("adbck,adk->abcd", self.mie_kernels[w], L[..., w]) \
-                / self.forward_j[..., w]
+        n_r, n_mu_s, K = L.shape[:3]
+        for kernel, ws in self.kernel_groups:
+            # one matrix product per point (r, mu_s) for all the wavelengths that share the kernel
+            mie = np.matmul(kernel.reshape(n_r * n_mu_s, -1, K), L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
+            mie = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(ws)), 1, 3)     # (n_r, n_mu, n_nu, n_mu_s, w)
+            J[..., [W + w for w in ws]] = self.beta_m[ws] * mie / self.forward_j[..., ws]
         return J
 
 
