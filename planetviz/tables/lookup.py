@@ -8,7 +8,7 @@ import numpy as np
 
 from .parameterization import (distance_coordinate, distance_from_coordinate, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
-                               ray_intersects_ground, rho_from_x_r, scattering_uvwz_from_r_mu_mu_s_nu,
+                               ray_intersects_ground, rho_from_x_r, safe_sqrt, scattering_uvwz_from_r_mu_mu_s_nu,
                                texcoord_from_unit_range, transmittance_uv_from_r_mu, x_mu_s_from_mu_s, x_r_from_rho)
 from .sampling import texel_axis
 from .sampling import texture2d
@@ -20,6 +20,10 @@ SMALLEST = 1e-37
 #: A ray whose scattering opacity (``ray_opacity``) is below this is empty: the multiple-scattering tables'
 #: mean is 0 there.
 EMPTY_RAY_OPACITY = 1e-30
+
+#: Points a :class:`ScatteringStencil` reads at a time: their intermediates (a few arrays of the points' channels)
+#: stay in the cache.
+STENCIL_BLOCK_ROWS = 8192
 
 
 def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):
@@ -180,21 +184,44 @@ def get_transmittance_to_sun(t, r, mu_s):
     radius and then along mu per sun: the same bilinear lookup, in float32 as the table is."""
     r, mu_s = np.asarray(r, float), np.asarray(mu_s, float)
     shape = np.broadcast_shapes(r.shape, mu_s.shape)
-    shadow = ray_intersects_ground(r, mu_s, t.bottom)
     n_r, n_mu = t.optical_depth.shape[:2]
     if 4 * r.size >= np.prod(shape, dtype=np.int64):
-        return np.where(shadow[..., None], 0.0, get_transmittance_to_top_atmosphere_boundary(t, r, mu_s))
-    u, v = transmittance_uv_from_r_mu(r, mu_s, t.bottom, t.top, (n_mu, n_r))     # v depends on r only: r.shape
-    v0, v1, fv = texel_axis(v, n_r)
+        return np.where(ray_intersects_ground(r, mu_s, t.bottom)[..., None], 0.0,
+                        get_transmittance_to_top_atmosphere_boundary(t, r, mu_s))
+    # per radius: the table's row at r (linear in r, as the texture reads it) and the terms of the mu mapping
+    bottom2, top2 = t.bottom * t.bottom, t.top * t.top
+    h = np.sqrt(top2 - bottom2)
+    rho = safe_sqrt(r * r - bottom2)
+    v0, v1, fv = texel_axis(texcoord_from_unit_range(rho / h, n_r), n_r)
     fv = fv.astype(np.float32)[..., None, None]
     rows = t.optical_depth[v0] * (1 - fv) + t.optical_depth[v1] * fv         # r.shape + (n_mu, W)
     rows = np.ascontiguousarray(np.moveaxis(rows.reshape(-1, rows.shape[-1]), -1, 0))   # (W, r.size n_mu)
-    u0, u1, fu = texel_axis(u, n_mu)
-    row = np.broadcast_to(np.arange(r.size).reshape(r.shape), shape) * n_mu
-    i0, i1, fu = row + u0, row + u1, fu.astype(np.float32)
-    d = distance_to_top_atmosphere_boundary(r, mu_s, t.top).astype(np.float32)
-    tau = np.stack([(np.take(w, i0) * (1 - fu) + np.take(w, i1) * fu) * d for w in rows])
-    return np.moveaxis(np.where(shadow, np.float32(0.0), np.exp(-tau)), 0, -1)    # wavelength-major in memory
+    d_min, d_max = t.top - r, rho + h
+    scale = np.where(d_max > d_min, (n_mu - 1) / np.where(d_max > d_min, d_max - d_min, 1.0), 0.0)
+    top_r, bottom_r = top2 - r * r, bottom2 - r * r
+    # per sun: the distance d to the top, the texel coordinate u n - 1/2 = x_mu (n - 1), the planet's shadow
+    r_mu = r * mu_s
+    r_mu2 = r_mu * r_mu
+    d = np.maximum(safe_sqrt(r_mu2 + top_r) - r_mu, 0.0)
+    shadow = (mu_s < 0.0) & (r_mu2 + bottom_r >= 0.0)
+    x = np.maximum((d - d_min) * scale, 0.0)
+    u0 = np.minimum(x.astype(np.int64), n_mu - 1)
+    fu = (x - u0).astype(np.float32)
+    i0 = u0 + np.arange(r.size).reshape(r.shape) * n_mu
+    i1 = i0 + (u0 < n_mu - 1)
+    minus_d = -d.astype(np.float32)
+    lit = ~shadow
+    out = np.empty((len(rows),) + shape, np.float32)                # wavelength-major in memory
+    for w, tau in zip(rows, out):
+        np.take(w, i0, out=tau)
+        step = np.take(w, i1)
+        step -= tau
+        step *= fu
+        tau += step
+        tau *= minus_d
+        np.exp(tau, out=tau)
+        tau *= lit
+    return np.moveaxis(out, 0, -1)
 
 
 def get_irradiance(t, r, mu_s, table=None):
@@ -264,24 +291,48 @@ class ScatteringStencil:
                     columns[..., c] = (kk * n_mu + jj) * n_x + slot
                     weights[..., c] = wn * wz * wy
                     c += 1
-        indptr = np.arange(n_points + 1, dtype=index) * per_point
-        self.matrix = csr_matrix((weights.reshape(-1), columns.reshape(-1), indptr), shape=(n_points, n_texels))
+        weights, columns = weights.reshape(-1), columns.reshape(-1)
+        # the points in blocks along their first axis, each block's intermediates staying in the cache
+        lead = self.shape[0] if self.shape else 1
+        per_lead = n_points // max(lead, 1)
+        step = max(1, STENCIL_BLOCK_ROWS // max(per_lead, 1))
+        self.blocks = [(i, min(i + step, lead)) for i in range(0, lead, step)]
+        self.matrices = [csr_matrix((weights[i * per_lead * per_point:j * per_lead * per_point],
+                                     columns[i * per_lead * per_point:j * per_lead * per_point],
+                                     np.arange((j - i) * per_lead + 1, dtype=index) * per_point),
+                                    shape=((j - i) * per_lead, n_texels)) for i, j in self.blocks]
+        self.per_lead = per_lead
         self.f = fs.reshape(-1, 1).astype(np.float32)
         self.opacity = None
         if mapping is scattering_uvwz_from_r_mu_mu_s_nu:
             opacity = ray_opacity(t, r, mu, intersects_ground)
-            self.opacity = np.broadcast_to(opacity, self.shape + opacity.shape[-1:]).reshape(n_points, -1)
+            self.opacity = np.broadcast_to(opacity, self.shape + opacity.shape[-1:]).reshape(n_points, -1).astype(np.float32)
 
-    def apply(self, table):
-        """The table (n_r, n_mu, n_nu, n_mu_s, W) at the stencil's points: (..., W); where the table holds
-        channels for several components of the same wavelengths (W a multiple of the opacity's), the opacity
-        multiplies each."""
+    def apply(self, table, along=None):
+        """The table (n_r, n_mu, n_nu, n_mu_s, C) at the stencil's points: (..., C); where the table holds
+        channels for several components of the same wavelengths (C a multiple of the opacity's), the opacity
+        multiplies each. With ``along`` (the stencil's points + (C,), weights): the weighted sum over the points'
+        last axis instead (an integral along rays whose nodes are that axis), (...[:-1], C)."""
         channels = table.shape[-1]
-        both = self.matrix @ mu_s_pairs(table).reshape(-1, 2 * channels)
-        out = geometric_blend(*(np.ascontiguousarray(both[:, k:k + channels]) for k in (0, channels)), self.f)
-        if self.opacity is not None:
-            out = out * np.tile(self.opacity, (1, channels // self.opacity.shape[-1])).astype(np.float32)
-        return out.reshape(self.shape + (channels,))
+        pairs = mu_s_pairs(table).reshape(-1, 2 * channels)
+        run = self.shape[-1] if self.shape else 1
+        n_points = self.f.shape[0]
+        full = None if along is None else np.broadcast_to(along, self.shape + (channels,))
+        out = np.empty((n_points if along is None else n_points // run, channels), np.float32)
+        for (i, j), matrix in zip(self.blocks, self.matrices):
+            a, b = i * self.per_lead, j * self.per_lead
+            both = matrix @ pairs
+            value = geometric_blend(*(np.ascontiguousarray(both[:, k:k + channels]) for k in (0, channels)),
+                                    self.f[a:b])
+            if self.opacity is not None:
+                value *= np.tile(self.opacity[a:b], (1, channels // self.opacity.shape[-1]))
+            if along is None:
+                out[a:b] = value
+            else:
+                weights = full[i:j]
+                out[a // run:b // run] = np.einsum("...kc,...kc->...c", value.reshape(weights.shape),
+                                                   weights).reshape(-1, channels)
+        return out.reshape((self.shape if along is None else self.shape[:-1]) + (channels,))
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None, top=None):

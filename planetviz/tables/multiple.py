@@ -249,16 +249,17 @@ class _Incident:
     def sky_parts(self, tables, atm, order, ms_prev, density_prev=None):
         """(light last scattered by molecules, by particles) (..., K, W): the sky radiance of that order (from
         ``density_prev``, J of that order, where the geometry integrates along the rays)."""
-        if order == 1:
-            return (get_scattering(tables, tables.rayleigh, self.r, self.mu, self.mu_s, self.nu, self.ground,
-                                   self.opacity) * atm.rayleigh.phase_function(self.nu)[..., None] * self.single_factor,
-                    get_scattering(tables, tables.mie, self.r, self.mu, self.mu_s, self.nu, self.ground,
-                                   self.opacity) * atm.mie.phase_function(self.nu) * self.single_factor)
+        if order == 1:                            # both single-scattering tables read at once
+            W = self.opacity.shape[-1]
+            both = get_scattering(tables, np.concatenate([tables.rayleigh, tables.mie], -1), self.r, self.mu,
+                                  self.mu_s, self.nu, self.ground, np.concatenate([self.opacity] * 2, -1))
+            return (both[..., :W] * atm.rayleigh.phase_function(self.nu)[..., None] * self.single_factor,
+                    both[..., W:] * atm.mie.phase_function(self.nu) * self.single_factor)
         if self.forward is None:                  # the same every order: computed once
             self.forward = forward_factor(atm, self.nu)
         if self.rays is not None:
             stencil, node_weight = self.rays
-            both = np.einsum("...kw,...kw->...w", node_weight, stencil.apply(density_prev))
+            both = stencil.apply(density_prev, along=node_weight)
             W = both.shape[-1] // 2
             return both[..., :W], self.forward * both[..., W:]
         both = self.stencil.apply(ms_prev)
@@ -595,7 +596,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         J = kernels.density(L)
         S = np.empty(shape + (2 * W,))                                            # [S_R, S_M / F(nu)]
         for rays, stencil, node_weight in paths:
-            S[rays] = np.einsum("...kw,...kw->...w", node_weight, stencil.apply(J))
+            S[rays] = stencil.apply(J, along=node_weight)
         total += S
         irradiance += e
         top_total += J[-1, :upward]
@@ -662,8 +663,10 @@ class _DensityKernels:
         mu_j, nu_j = density_grid(mu_s[:1, 0, 0, :], size[2], size[0])                 # the same at every r
         views = np.broadcast_to(_view_vectors(mu_j, mu_s[:1], nu_j), density_shape + (3,))
         full_dirs = np.concatenate([dirs, dirs * np.array([1.0, -1.0, 1.0])], axis=-2)
-        self.outer = np.einsum("...ki,...kj->...kij", full_dirs, full_dirs)    # (..., 2K, 3, 3)
-        self.vv = np.einsum("...i,...j->...ij", views, views)
+        outer = np.einsum("...ki,...kj->...kij", full_dirs, full_dirs)         # (..., 2K, 3, 3)
+        self.outer = np.swapaxes(outer.reshape(outer.shape[:-2] + (9,)), -1, -2)   # (..., 9, 2K)
+        vv = np.einsum("...i,...j->...ij", views[0], views[0])                   # (n_mu, n_nu, n_mu_s, 3, 3)
+        self.vv = np.moveaxis(vv.reshape(-1, vv.shape[2], 9), 1, 0)              # (n_mu_s, n_mu n_nu, 9)
         self.beta_r = np.asarray(atm.rayleigh.scattering_m)
         self.beta_m = np.asarray(atm.mie.scattering_m)
         self.mie_kernels = _mie_kernels(atm, views[0], dirs, weights, n_phi, density_shape[0])
@@ -684,12 +687,13 @@ class _DensityKernels:
         w_full = np.concatenate([self.weights, self.weights], axis=-1)
         L_full = np.concatenate([L, L], axis=2) * w_full[..., None]
         m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
-        m2 = np.einsum("kxy,abkw->abxyw" if self.outer.ndim == 3 else "abkxy,abkw->abxyw", self.outer,
-                       L_full)                                                      # (n_r, n_mu_s, 3, 3, W)
-        quad = np.einsum("abcdxy,adxyw->abcdw", self.vv, m2)
+        n_r, n_mu_s, K = L.shape[:3]
+        m2 = np.matmul(self.outer, L_full)                                          # (n_r, n_mu_s, 9, W)
+        # v^T m2 v at every view: one matrix product per mu_s, (n_mu n_nu, 9) by (9, n_r W)
+        quad = np.matmul(self.vv, np.moveaxis(m2, 0, 2).reshape(n_mu_s, 9, n_r * W))
+        quad = np.moveaxis(quad.reshape((n_mu_s,) + self.shape[1:3] + (n_r, W)), (0, 3), (3, 0))
         J = np.empty(self.shape + (2 * W,), np.float32)
         J[..., :W] = self.beta_r * (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
-        n_r, n_mu_s, K = L.shape[:3]
         for kernel, ws in self.kernel_groups:
             # one matrix product per point (r, mu_s) for all the wavelengths that share the kernel
             mie = np.matmul(kernel.reshape(n_r * n_mu_s, -1, K), L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, -1))

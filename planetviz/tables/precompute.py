@@ -167,15 +167,28 @@ def single_scattering_integral(tables: Tables, atm, r, mu, mu_s, nu, t, w):
     along the ray: sum_k w_k beta_i^scat rho_i(h_k) T(x, x_k) T_sun(x_k) (stage 2 of the module docstring),
     mu_s,k = (r mu_s + t_k nu) / r_k. r, mu, mu_s, nu broadcast against each other and against t's leading axes
     (the view transmittance and the densities are computed once for what r, mu and t share)."""
-    r, mu, mu_s, nu = (np.asarray(a, float)[..., None] for a in (r, mu, mu_s, nu))
+    r, mu = (np.asarray(a, float)[..., None] for a in (r, mu))
+    r_t, weights = _node_weights(tables, atm, r, mu, t, w)
+    return _sun_sum(tables, r, r_t, t, weights, mu_s, nu)
+
+
+def _node_weights(tables: Tables, atm, r, mu, t, w):
+    """(r_t, the node weights (..., K, W, 2)) of the rays (r, mu) (..., 1) at their nodes t with weights w
+    (..., K): r_t the nodes' radii [m], the weights w_k beta_i^scat rho_i(h_k) T(x, x_k) [1/m x m] of molecules
+    and particles, what the single-scattering integral shares over every sun."""
     r_t = np.sqrt(np.maximum(t * t + 2.0 * r * mu * t + r * r, 0.0))
     h = r_t - tables.bottom
     view = get_transmittance(tables, r, mu, t)
+    return r_t, np.stack([(w * species.profile.density(h))[..., None] * view * np.asarray(species.scattering_m)
+                          for species in (atm.rayleigh, atm.mie)], -1)
+
+
+def _sun_sum(tables: Tables, r, r_t, t, weights, mu_s, nu):
+    """(S_R,1, S_M,1) (..., W): the node weights of :func:`_node_weights` times T_sun(r_t, mu_s,t) summed over
+    the nodes, for suns (mu_s, nu) broadcasting against the rays' leading axes."""
+    mu_s, nu = (np.asarray(a, float)[..., None] for a in (mu_s, nu))
     mu_s_t = np.clip((r * mu_s + t * nu) / r_t, -1.0, 1.0)
-    sun = get_transmittance_to_sun(tables, r_t, mu_s_t)
-    weights = np.stack([(w * species.profile.density(h))[..., None] * view * np.asarray(species.scattering_m)
-                        for species in (atm.rayleigh, atm.mie)], -1)
-    s = _sum_over_nodes(weights, sun)
+    s = _sum_over_nodes(weights, get_transmittance_to_sun(tables, r_t, mu_s_t))
     return s[..., 0], s[..., 1]
 
 
@@ -223,12 +236,15 @@ def single_scattering(tables: Tables, atm, progress=None):
             samples = (LONG_RAY_NODE_FACTOR if long else 1) * tables.sizes.scattering_samples
             block = max(1, SINGLE_SCATTERING_BLOCK // (r[0, 0].size * 2 * samples))
             rows = np.flatnonzero(long_ray[i] == long)
+            if rows.size == 0:
+                continue
+            ri, mui = r[i, rows][:, :1, :1, None], mu[i, rows][:, :1, :1, None]   # per mu, (rows, 1, 1, 1)
+            t, w = ray_nodes(ri[..., 0], mui[..., 0], d[i, rows], samples)         # (rows, 1, 1, K)
+            r_t, weights = _node_weights(tables, atm, ri, mui, t, w)
             for j in range(0, rows.size, block):
-                rays = (i, rows[j:j + block])
-                ri, mui = r[rays][:, :1, :1], mu[rays][:, :1, :1]           # per mu
-                t, w = ray_nodes(ri, mui, d[rays], samples)                  # (block, 1, 1, K)
-                out_r[rays], out_m[rays] = single_scattering_integral(tables, atm, ri, mui, mu_s[rays], nu[rays],
-                                                                      t, w)
+                rays, part = (i, rows[j:j + block]), slice(j, j + block)
+                out_r[rays], out_m[rays] = _sun_sum(tables, ri[part], r_t[part], t[part], weights[part],
+                                                    mu_s[rays], nu[rays])
     opacity = np.maximum(opacity, SMALLEST)                 # 0 where the air is too thin to represent (S is 0)
     return out_r / opacity, out_m / opacity
 
