@@ -437,7 +437,8 @@ class _LitMass:
 def _strata_weights(atm, w, p, d, sun, lit, ok):
     """(P, STRATA) weights of the strata of equal lit mass of the segments ``ok``: 1, or where the segment
     meets the shadow T_sun at the stratum's middle (2-panel quadrature; T_sun runs from 0 at the shadow's edge
-    up) plus DEFENSIVE times their mean, so none is left out."""
+    up) over its largest plus DEFENSIVE times their mean, so none is left out (over the largest: where T_sun
+    underflows to a subnormal the mean times DEFENSIVE would be 0, and a draw could pick a stratum of weight 0)."""
     n_ok = int(ok.sum())
     weights = np.ones((n_ok, STRATA))
     edge = np.nonzero(lit.meets_shadow[ok])[0]
@@ -447,8 +448,9 @@ def _strata_weights(atm, w, p, d, sun, lit, ok):
         sm = np.broadcast_to(sun[ok][edge, None, :], xm.shape)
         t_mid = np.exp(-optical_depth(atm, xm, sm, np.inf, panels=2, index=w)[..., 0])
         t_mid = np.where(np.isfinite(distance_to_ground(xm, sm, atm.bottom_radius_m)), 0.0, t_mid)
+        largest = t_mid.max(axis=1, keepdims=True)
+        t_mid = np.where(largest > 0.0, t_mid / np.where(largest > 0.0, largest, 1.0), 1.0)
         weights[edge] = t_mid + DEFENSIVE * t_mid.mean(axis=1, keepdims=True)
-        weights[edge[weights[edge].sum(axis=1) <= 0.0]] = 1.0
     return weights
 
 
