@@ -338,7 +338,7 @@ def test_orders_stop_by_themselves_more_for_a_thicker_atmosphere():
 
 def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_and_mu_s_texels_in_their_multiple_scattering_tables():
     # precompute.sizes_for: the 10-bar CO2 planet (tau = 4 at 440 nm) and the 1000 km scale height (2) get 16 r
-    # rows at the draft and standard levels' 8, and a level that has 16 already (high) is left alone; Mars (its
+    # rows at the draft level's 8, and a level that has 16 already (standard, high) is left alone; Mars (its
     # dust's lobe g = 0.86-0.91) and the Earth with 10 times its aerosol (then 54% of the scattering at 440 nm) get
     # the level's lobe_nu nu texels (16 at standard and high, draft's 4) and lobe_mu_s mu_s texels (48 at standard
     # and high, draft's 16); the Earth (its aerosol, g = 0.8, 2-10% of the scattering) keeps its level's sizes.

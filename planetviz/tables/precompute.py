@@ -62,8 +62,8 @@ QUALITY = {
     "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         lobe_nu=4, lobe_mu_s=16, multiple_samples=4, directions=(8, 8), tolerance=1e-2),
-    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 128, 32), scattering_samples=8,
-                           multiple=(4, 32, 64, 8), multiple_samples=4, directions=(10, 10), tolerance=3e-3),
+    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 120, 32), scattering_samples=8,
+                           multiple=(4, 32, 64, 16), multiple_samples=4, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
 }
 
@@ -103,10 +103,10 @@ THICK_MULTIPLE_ROWS = 16
 def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     """``sizes`` as the precompute uses them for ``atm``:
 
-    1. in an optically thick atmosphere the multiple-scattering table has at least ``THICK_MULTIPLE_ROWS`` r rows.
-       With the standard level's 8, the 10-bar CO2 planet's 12 test rays read 2.2% RMS off the reference (up to
-       5.4% low at 440 nm, where the light changes with the altitude's optical depth); with 16, 1.5%, for about 2.5
-       times the precompute (tests/test_tables.py's rays, the reference's noise 0.9%);
+    1. in an optically thick atmosphere the multiple-scattering table has at least ``THICK_MULTIPLE_ROWS`` r rows
+       (the standard and high levels have as many; the draft level 8). With 8, the 10-bar CO2 planet's 12 test rays
+       read 2.2% RMS off the reference at standard (up to 5.4% low at 440 nm, where the light changes with the
+       altitude's optical depth); with 16, 1.5% (tests/test_tables.py's rays, the reference's noise 0.9%);
     2. under a dominant forward lobe (``validated.strongest_forward_lobe`` above ``validated.FORWARD_LOBE_G``) the
        multiple-scattering tables have at least ``sizes.lobe_nu`` nu texels: their particles' part is stored over
        the twice-scattered lobe F(nu), which varies a hundredfold across 4 texels, and the diffuse light seen
