@@ -21,10 +21,6 @@ SMALLEST = 1e-37
 #: mean is 0 there.
 EMPTY_RAY_OPACITY = 1e-30
 
-#: Points a :class:`ScatteringStencil` reads at a time: their intermediates (a few arrays of the points' channels)
-#: stay in the cache.
-STENCIL_BLOCK_ROWS = 8192
-
 
 def get_optical_depth_to_top_atmosphere_boundary(t, r, mu):
     """tau between (r, mu) and the top of the atmosphere (the ray must not hit the ground): the table's mean
@@ -291,22 +287,14 @@ class ScatteringStencil:
                     columns[..., c] = (kk * n_mu + jj) * n_x + slot
                     weights[..., c] = wn * wz * wy
                     c += 1
-        weights, columns = weights.reshape(-1), columns.reshape(-1)
-        # the points in blocks along their first axis, each block's intermediates staying in the cache
-        lead = self.shape[0] if self.shape else 1
-        per_lead = n_points // max(lead, 1)
-        step = max(1, STENCIL_BLOCK_ROWS // max(per_lead, 1))
-        self.blocks = [(i, min(i + step, lead)) for i in range(0, lead, step)]
-        self.matrices = [csr_matrix((weights[i * per_lead * per_point:j * per_lead * per_point],
-                                     columns[i * per_lead * per_point:j * per_lead * per_point],
-                                     np.arange((j - i) * per_lead + 1, dtype=index) * per_point),
-                                    shape=((j - i) * per_lead, n_texels)) for i, j in self.blocks]
-        self.per_lead = per_lead
+        self.matrix = csr_matrix((weights.reshape(-1), columns.reshape(-1),
+                                  np.arange(n_points + 1, dtype=index) * per_point), shape=(n_points, n_texels))
         self.f = fs.reshape(-1, 1).astype(np.float32)
         self.opacity = None
         if mapping is scattering_uvwz_from_r_mu_mu_s_nu:
             opacity = ray_opacity(t, r, mu, intersects_ground)
-            self.opacity = np.broadcast_to(opacity, self.shape + opacity.shape[-1:]).reshape(n_points, -1).astype(np.float32)
+            self.opacity = np.broadcast_to(opacity, self.shape + opacity.shape[-1:]).reshape(n_points, -1)
+            self.opacity = self.opacity.astype(np.float32)
 
     def apply(self, table, along=None):
         """The table (n_r, n_mu, n_nu, n_mu_s, C) at the stencil's points: (..., C); where the table holds
@@ -314,25 +302,12 @@ class ScatteringStencil:
         multiplies each. With ``along`` (the stencil's points + (C,), weights): the weighted sum over the points'
         last axis instead (an integral along rays whose nodes are that axis), (...[:-1], C)."""
         channels = table.shape[-1]
-        pairs = mu_s_pairs(table).reshape(-1, 2 * channels)
-        run = self.shape[-1] if self.shape else 1
-        n_points = self.f.shape[0]
-        full = None if along is None else np.broadcast_to(along, self.shape + (channels,))
-        out = np.empty((n_points if along is None else n_points // run, channels), np.float32)
-        for (i, j), matrix in zip(self.blocks, self.matrices):
-            a, b = i * self.per_lead, j * self.per_lead
-            both = matrix @ pairs
-            value = geometric_blend(*(np.ascontiguousarray(both[:, k:k + channels]) for k in (0, channels)),
-                                    self.f[a:b])
-            if self.opacity is not None:
-                value *= np.tile(self.opacity[a:b], (1, channels // self.opacity.shape[-1]))
-            if along is None:
-                out[a:b] = value
-            else:
-                weights = full[i:j]
-                out[a // run:b // run] = np.einsum("...kc,...kc->...c", value.reshape(weights.shape),
-                                                   weights).reshape(-1, channels)
-        return out.reshape((self.shape if along is None else self.shape[:-1]) + (channels,))
+        both = self.matrix @ mu_s_pairs(table).reshape(-1, 2 * channels)
+        value = geometric_blend(*(np.ascontiguousarray(both[:, k:k + channels]) for k in (0, channels)), self.f)
+        if self.opacity is not None:
+            value *= np.tile(self.opacity, (1, channels // self.opacity.shape[-1]))
+        value = value.reshape(self.shape + (channels,))
+        return value if along is None else np.einsum("...kc,...kc->...c", value, along)
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None, top=None):

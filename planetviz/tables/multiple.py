@@ -696,8 +696,9 @@ class _DensityKernels:
         J[..., :W] = self.beta_r * (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
         for kernel, ws in self.kernel_groups:
             # one matrix product per point (r, mu_s) for all the wavelengths that share the kernel
-            mie = np.matmul(kernel.reshape(n_r * n_mu_s, -1, K), L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
-            mie = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(ws)), 1, 3)     # (n_r, n_mu, n_nu, n_mu_s, w)
+            mie = np.matmul(kernel.reshape(n_r * n_mu_s, -1, K),
+                            L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
+            mie = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(ws)), 1, 3)   # J's axes, then w
             J[..., [W + w for w in ws]] = self.beta_m[ws] * mie / self.forward_j[..., ws]
         return J
 
