@@ -18,9 +18,10 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
    direction, with no seam at the horizon, where S's distance-based mu axis squeezes every view below the
    horizon from low altitude next to the nadir texel):
    the Rayleigh-like part (a + b (w . v)^2) from the zeroth and second angular moments of L, which the
-   quadrature integrates exactly; the Mie part from a kernel renormalised so that it integrates P_M to 1
-   per texel (``_mie_kernels``: a coarse direction set cannot resolve a forward peak: renormalising keeps energy
-   right);
+   quadrature integrates exactly; the Mie part from a kernel renormalised on each piece of the quadrature's
+   cosines (the ground's side of the horizon, the lit band, the sky) to P_M's integral over it
+   (``_mie_kernels``: a coarse direction set cannot resolve a forward peak: renormalising keeps energy right,
+   and each piece keeps its share of a lobe that straddles the horizon);
 3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only), the particles'
    part renormalised for their lobe toward the sun (``lobe_irradiance_factors``);
 4. S_n(r, mu, mu_s, nu) = int_0^d T(x, x_t) J_n(r_t, mu_t, mu_s,t, nu) dt (J read from its table; Gauss-Legendre
@@ -46,8 +47,8 @@ import numpy as np
 
 from .lookup import (EMPTY_RAY_OPACITY, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, ground_row_factor, ray_opacity)
-from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, integration_grid, is_optically_thick, ray_nodes,
-                    scattering_grid, split_ray_nodes)
+from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, depth_distance, integration_grid, is_optically_thick,
+                    ray_nodes, scattering_grid, split_ray_nodes)
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
@@ -123,9 +124,9 @@ def horizon_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     sky_mu, sky_w = _toward_horizon(n_theta - n_theta // 2, mu_h)
     dirs, weights = _with_azimuths(np.concatenate([ground_mu, sky_mu], -1), np.concatenate([ground_w, sky_w], -1),
                                    n_phi)
+    ends = np.stack([-np.ones_like(mu_h), mu_h, np.ones_like(mu_h)], -1)
     n_mu_s = np.size(mu_s)
-    return (np.broadcast_to(dirs[:, None], (len(mu_h), n_mu_s) + dirs.shape[1:]),
-            np.broadcast_to(weights[:, None], (len(mu_h), n_mu_s) + weights.shape[1:]))
+    return tuple(np.broadcast_to(x[:, None], (len(mu_h), n_mu_s) + x.shape[1:]) for x in (dirs, weights, ends))
 
 
 def lit_band_top(r, mu_s, bottom, top):
@@ -200,7 +201,8 @@ def lit_band_quadrature(r, mu_s, bottom, top, n_theta: int, n_phi: int):
     sky_mu, sky_w = _toward_horizon(n_theta - n_ground, mu_h, LIT_BAND_SKY_LINEAR)
     mu = np.where(band[..., None], np.concatenate([in_band[0], above[0]], -1), sky_mu)
     w_mu = np.where(band[..., None], np.concatenate([in_band[1], above[1]], -1), sky_w)
-    return _with_azimuths(np.concatenate([ground_mu, mu], -1), np.concatenate([ground_w, w_mu], -1), n_phi)
+    ends = np.stack([-np.ones(band.shape), mu_h, np.where(band, mu_b, mu_h), np.ones(band.shape)], -1)
+    return _with_azimuths(np.concatenate([ground_mu, mu], -1), np.concatenate([ground_w, w_mu], -1), n_phi) + (ends,)
 
 
 #: The scattering density's direction quadratures (``multiple_scattering``): the same at every point
@@ -238,7 +240,7 @@ class _Incident:
             density_shape, samples = along_rays
             d = np.where(self.ground, d_ground, distance_to_top_atmosphere_boundary(self.r, self.mu, tables.top))
             self.rays = _density_along_rays(tables, atm, density_shape, self.r, self.mu, self.mu_s, self.nu,
-                                            self.ground, d, samples, thick=True)
+                                            self.ground, d, samples, split=True)
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
             d = d_ground
@@ -347,7 +349,51 @@ def _cells(dirs, weights, n_phi, samples):
     return out.reshape(out.shape[:-5] + (K, samples * samples, 3))
 
 
-def _mie_kernels(atm, views, dirs, weights, n_phi, n_r, samples=KERNEL_CELL_SAMPLES):
+#: The grid of :func:`_cap_integrals`: edges x = cos(theta), theta uniform over [0, pi] (fine at the poles, where a
+#: lobe seen from the zenith or the nadir changes within 1e-3 in x), and angles from the view
+#: gamma = pi (u - sin(2 pi u) / (2 pi)), u on the midpoint rule, clustered at both ends for forward and backward
+#: lobes: G within 2.4e-4 of a brute-force integral over the sphere for g from -0.9 to 0.95
+#: (tests/test_multiple_scattering.py), in 0.04 s for 64 views and 3 phase functions.
+CAP_EDGES, CAP_ANGLES = 1025, 256
+
+
+def _cap_integrals(phases, mu_v):
+    """The phase function's integrals over polar caps, on the edges x (CAP_EDGES,) of ``CAP_EDGES``:
+    G(mu_v, x) = int_{w_z < x} P(v . w) dw, scaled so that G(mu_v, 1) = 1, (n_phase, n_v, CAP_EDGES), for views of
+    zenith cosine ``mu_v`` (n_v,) and the phase functions ``phases`` (callables of the scattering angle's cosine
+    [1/sr]).
+
+    Around the view, the directions at angle gamma from it form a circle, of which the share below the cap's edge
+    (w_z < x) is f = 1 - acos(t) / pi, t = (x - mu_v cos gamma) / (sin theta_v sin gamma) clipped to [-1, 1]; so
+    G = 2 pi int_0^pi P(cos gamma) f sin gamma d(gamma), a one-dimensional integral (``CAP_ANGLES`` nodes)."""
+    x = np.cos(np.linspace(np.pi, 0.0, CAP_EDGES))
+    u = (np.arange(CAP_ANGLES) + 0.5) / CAP_ANGLES
+    gamma = np.pi * (u - np.sin(2.0 * np.pi * u) / (2.0 * np.pi))
+    dw = 2.0 * np.pi * np.sin(gamma) * np.pi * (1.0 - np.cos(2.0 * np.pi * u)) / CAP_ANGLES   # 2 pi sin(gamma) dgamma
+    weights = np.stack([phase(np.cos(gamma)) * dw for phase in phases], -1).astype(np.float32)
+    G = np.empty((len(phases), len(mu_v), CAP_EDGES))
+    cos_g, sin_g = np.cos(gamma).astype(np.float32), np.sin(gamma).astype(np.float32)
+    x32 = x.astype(np.float32)[:, None]
+    for i, mu in enumerate(np.asarray(mu_v, float)):
+        sin_v = np.float32(np.sqrt(max(1.0 - mu * mu, 0.0)))
+        t = (x32 - np.float32(mu) * cos_g) / np.maximum(sin_v * sin_g, np.float32(1e-12))
+        share = np.float32(1.0) - np.arccos(np.clip(t, -1.0, 1.0, out=t), out=t) * np.float32(1.0 / np.pi)
+        G[:, i] = (share @ weights).T
+    return x, G / G[..., -1:]
+
+
+def _piece_masses(x, G, ends):
+    """The phase function's weight on each piece of a quadrature's cosines, G(b) - G(a) for the pieces [a, b]
+    between consecutive ``ends`` (U, n_e), (n_phase, U, n_v, n_e - 1), G of :func:`_cap_integrals` read linearly in
+    the grid's angle."""
+    pos = np.arccos(np.clip(-ends, -1.0, 1.0)) / np.pi * (len(x) - 1)      # the grid runs from theta = pi
+    i = np.clip(pos.astype(int), 0, len(x) - 2)
+    f = np.clip(pos - i, 0.0, 1.0)
+    g = G[..., i] + f * (G[..., i + 1] - G[..., i])                             # (n_phase, n_v, U, n_e)
+    return np.swapaxes(np.diff(g, axis=-1), 1, 2)
+
+
+def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CELL_SAMPLES):
     """Per wavelength, the renormalised kernel of each direction w_k, P_M(v . w_k) + P_M(v . w_k') times its weight
     (w' the mirror image about the sun's plane), or with ``samples`` > 1 its cell's integral of the same by
     :func:`_cells`' sub-samples,
@@ -357,15 +403,23 @@ def _mie_kernels(atm, views, dirs, weights, n_phi, n_r, samples=KERNEL_CELL_SAMP
 
     A forward lobe narrower than a direction's cell (g = 0.88: the half width at half maximum is 5.6 deg, the cells
     of 10 azimuths over pi are 18 deg wide) sampled at the directions misses most of its weight, which the
-    renormalisation to 1 (which keeps the energy) spreads over the directions next to its axis; the cell integral
-    gives each cell its share of the lobe (``KERNEL_CELL_SAMPLES`` says which the levels use and why). Points whose
-    directions and views agree to 1e-6 (at a given r, every sun above the horizon) share a kernel: it is computed
-    once per distinct point."""
+    renormalisation (which keeps the energy) spreads over the directions next to its axis; the cell integral
+    gives each cell its share of the lobe (``KERNEL_CELL_SAMPLES`` says which the levels use and why). The
+    renormalisation is per piece of the quadrature's cosines, between consecutive ``ends`` (..., n_e) (the
+    ground's side of the horizon, the lit band, the sky; :func:`lit_band_quadrature`): each piece's directions
+    share P_M's integral over that piece (:func:`_cap_integrals`), so that a lobe which straddles the horizon
+    weighs the ground's light and the sky's as it should, whichever directions lie next to its axis. (Over the whole
+    sphere at once, a horizontal view under a lobe of g = 0.94 gave its weight to the sky's nodes 1-2 deg above the
+    horizon rather than the ground's 6 deg below, and the first two orders from the ground of a thin atmosphere over
+    a bright ground read 10.5% low; benchmarks/tables_orders.py, random atmosphere 100004.) Points whose directions
+    and views agree to 1e-6 (at a given r, every sun above the horizon) share a kernel: it is computed once per
+    distinct point."""
     n_mu_s = views.shape[2]
     dirs = np.broadcast_to(dirs, (n_r, n_mu_s) + dirs.shape[-2:])
     weights = np.broadcast_to(weights, (n_r, n_mu_s) + weights.shape[-1:])
+    ends = np.broadcast_to(ends, (n_r, n_mu_s) + ends.shape[-1:])
     column = np.moveaxis(views, 2, 0).reshape(n_mu_s, -1)                            # the views per mu_s
-    key = np.concatenate([dirs.reshape(n_r, n_mu_s, -1), weights,
+    key = np.concatenate([dirs.reshape(n_r, n_mu_s, -1), weights, ends,
                           np.broadcast_to(column, (n_r,) + column.shape)], -1).reshape(n_r * n_mu_s, -1)
     _, first, inverse = np.unique(np.round(key, 6), axis=0, return_index=True, return_inverse=True)
     r_i, s_i = np.divmod(first, n_mu_s)
@@ -385,20 +439,46 @@ def _mie_kernels(atm, views, dirs, weights, n_phi, n_r, samples=KERNEL_CELL_SAMP
             for lobe, tab in tabs.items():
                 lower = np.take(tab, i)
                 sums[lobe] += lower + f * (np.take(tab, i + 1) - lower)
+    # each piece's share of the phase function (``_piece_masses``), spread over its directions as sampled
+    mu_v, view_row = np.unique(np.round(views[..., 2], 9), return_inverse=True)
+    view_row = np.moveaxis(view_row.reshape(views.shape[:3]), 2, 0)[s_i].reshape(len(first), -1, 1)
+    point_ends = ends[r_i, s_i]
+    cosines = dirs[r_i, s_i][..., 2]                                                   # (U, K)
+    piece = np.clip(np.stack([np.searchsorted(e, c, side="right") - 1 for e, c in zip(point_ends, cosines)]),
+                    0, point_ends.shape[-1] - 2)
+    x, G = _cap_integrals([lambda c, w=lobes.index(lobe): atm.mie.phase_function(c)[..., w] for lobe in tabs], mu_v)
+    masses = _piece_masses(x, G, point_ends)
+    in_piece = (piece[..., None] == np.arange(point_ends.shape[-1] - 1)).astype(np.float32)   # (U, K, pieces)
     out = {}
-    for lobe, k in sums.items():
+    for (lobe, k), mass in zip(sums.items(), masses):
         k *= weights[r_i, s_i][:, None, :].astype(np.float32)
-        k /= k.sum(-1, keepdims=True)
+        sampled = np.matmul(k, in_piece)                                               # (U, V, pieces)
+        mass = np.take_along_axis(mass, view_row, axis=1).astype(np.float32)
+        scale = np.where(sampled > 0.0, mass / np.where(sampled > 0.0, sampled, 1.0), 0.0)
+        k *= np.take_along_axis(scale, np.broadcast_to(piece[:, None, :], k.shape), axis=-1)
         out[lobe] = k[inverse.ravel()].reshape((n_r, n_mu_s) + views.shape[:2] + k.shape[-1:])
     return [out[lobe] for lobe in lobes]
 
 
+#: Rays whose optical depth exceeds ``SPLIT_OPTICAL_DEPTH`` at some wavelength before ``SPLIT_NODE_SHARE`` of
+#: their quadrature nodes are integrated on two segments, split where it is reached (``nodes.split_ray_nodes``),
+#: in every atmosphere (in optically thick ones, every ray): a ray that leaves the ground 1.7 deg up on a planet of
+#: 4e8 m crosses an optical depth of 18 at 440 nm, nearly all of it in the first 0.4% of its 60,000 km, where one
+#: Gauss-Legendre rule over the whole ray puts 2 of its 16 nodes (order 2 read 7.2% low there, 0.6% split;
+#: benchmarks/tables_orders.py, random atmosphere 100005; 6.6% low with the split only where a quarter of the
+#: nodes lie before that depth). 18% of Earth's texels' rays are split (38% reach that depth: splitting them all
+#: cost its standard precompute 0.3 s of 3.5).
+SPLIT_OPTICAL_DEPTH, SPLIT_NODE_SHARE = 3.0, 0.5
+
+
 def _ray_paths(tables, atm, size, samples, thick, density_shape):
-    """Integration along the texels' rays, fixed for all orders, in two sets: rays up to the length of the
+    """Integration along the texels' rays, fixed for all orders, in up to four sets: rays up to the length of the
     ground's horizontal ray to the top, and longer ones, which graze the planet from high up and get
     ``nodes.LONG_RAY_NODE_FACTOR`` times the nodes (through the limb seen from space the density peaks in
     the middle of a 1600 km ray: with 8 nodes order 2 read 11% above its value with 4x the nodes at 440 nm,
-    tests/test_tables.py). The rays are ``nodes.integration_grid``'s for a table of ``size``. Returns [(rays, an
+    tests/test_tables.py); each of them split in two segments where its optical depth exceeds
+    ``SPLIT_OPTICAL_DEPTH`` before ``SPLIT_NODE_SHARE`` of its nodes (every ray where the atmosphere is optically
+    ``thick``). The rays are ``nodes.integration_grid``'s for a table of ``size``. Returns [(rays, an
     index into the (n_r, n_mu) axes; the stencil reading J, a table of ``density_shape``, at the nodes; node
     weights (rays, n_nu, n_mu_s, K, 2W), the view transmittance, each component's density and 1 / the ray's
     ``lookup.ray_opacity`` folded in, against J's 2W channels)]."""
@@ -406,15 +486,18 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
     r2, mu2, g2, d2 = r[:, :, 0, 0], mu[:, :, 0, 0], ground[:, :, 0, 0], d[:, :, 0, 0]
     opacity = ray_opacity(tables, r2, mu2, g2)
     long_ray = d2 > np.sqrt(tables.top ** 2 - tables.bottom ** 2)
+    t_plain, _ = ray_nodes(r2, mu2, d2, samples)
+    t_split = depth_distance(atm, r2, mu2, d2, SPLIT_OPTICAL_DEPTH)
+    deep = thick | ((t_plain < t_split[..., None]).sum(-1) < SPLIT_NODE_SHARE * t_plain.shape[-1])
     paths = []
-    for long in (False, True):
-        rays = np.nonzero(long_ray == long)
+    for long, split in ((False, False), (True, False), (False, True), (True, True)):
+        rays = np.nonzero((long_ray == long) & (deep == split))
         if rays[0].size == 0:
             continue
         n = samples * (LONG_RAY_NODE_FACTOR if long else 1)
         rr, mm, gg, dd = (a[rays][:, None, None] for a in (r2, mu2, g2, d2))            # (rays, 1, 1)
         stencil, node_weight = _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg, dd,
-                                                   n, thick)
+                                                   n, split)
         per_opacity = np.concatenate([opacity[rays], opacity[rays]], -1)[:, None, None, None, :]
         # Where the scattering opacity is below EMPTY_RAY_OPACITY the ray holds no light a table can show
         # (S < 1e-30 J): its mean is stored as 0. Dividing there (the weights carry the densities, J the
@@ -426,13 +509,13 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
     return paths
 
 
-def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, thick):
+def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, split):
     """The integral int_0^d T(x, x_t) J(x_t) dt along rays (r, mu, mu_s, nu) of length d to the top or the
     ground, prepared for J's table of ``shape``: (the stencil reading J at the nodes, node weights (..., K, 2W)
     with the view transmittance and each component's density folded in, against J's 2W channels). r, mu,
     ``ground`` and d broadcast against mu_s and nu; n nodes per side of the closest approach
-    (``nodes.ray_nodes``), on two segments where the atmosphere is optically ``thick``."""
-    t, wt = split_ray_nodes(atm, r, mu, d, n) if thick else ray_nodes(r, mu, d, n)    # (..., K)
+    (``nodes.ray_nodes``), on two segments where ``split`` (``nodes.split_ray_nodes``)."""
+    t, wt = split_ray_nodes(atm, r, mu, d, n, SPLIT_OPTICAL_DEPTH) if split else ray_nodes(r, mu, d, n)  # (..., K)
     r, mu, d = r[..., None], mu[..., None], d[..., None]
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * r * mu * t + r * r, 0.0)), tables.bottom, tables.top)
     mu_t = np.clip((r * mu + t) / r_t, -1.0, 1.0)
@@ -562,9 +645,9 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         r_axis = scattering_grid(tables, size[:3] + (density_shape[0],))[0][:, 0, 0, 0]
         along_rays = (density_shape, samples)
     if quadrature == "hemispheres":
-        point_dirs, point_weights = dirs, weights
+        point_dirs, point_weights, ends = dirs, weights, np.array([-1.0, 0.0, 1.0])
     else:
-        point_dirs, point_weights = QUADRATURES[quadrature](r_axis, mu_s_axis, tables.bottom, scattering_top(atm),
+        point_dirs, point_weights, ends = QUADRATURES[quadrature](r_axis, mu_s_axis, tables.bottom, scattering_top(atm),
                                                            n_theta, n_phi)
     incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], point_dirs, shape, along_rays=along_rays)
     n_mu_s_i, n_r_i = tables.sizes.irradiance
@@ -575,7 +658,7 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
     # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_factors``)
     lobe_factors = [f[None, :, None, :] for f in lobe_irradiance_factors(atm, dirs[up], cos_weights, mu_s_irr[0])]
-    kernels = _DensityKernels(atm, size, mu_s, point_dirs, point_weights, density_shape, n_phi)
+    kernels = _DensityKernels(atm, size, mu_s, point_dirs, point_weights, ends, density_shape, n_phi)
     forward = forward_factor(atm, nu)                          # F(nu) at S's texels
 
     # Integration along each texel's ray: nodes, view transmittance and J's stencils, fixed for all orders;
@@ -658,7 +741,7 @@ class _DensityKernels:
     (1 + A c^2) / (4 pi (1 + A / 3)) by moments of the incident light, Mie by renormalised kernels
     (``_mie_kernels``), the particles' part divided by F(nu) (``forward_factor``)."""
 
-    def __init__(self, atm, size, mu_s, dirs, weights, density_shape, n_phi):
+    def __init__(self, atm, size, mu_s, dirs, weights, ends, density_shape, n_phi):
         self.a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
         mu_j, nu_j = density_grid(mu_s[:1, 0, 0, :], size[2], size[0])                 # the same at every r
         views = np.broadcast_to(_view_vectors(mu_j, mu_s[:1], nu_j), density_shape + (3,))
@@ -669,7 +752,7 @@ class _DensityKernels:
         self.vv = np.moveaxis(vv.reshape(-1, vv.shape[2], 9), 1, 0)              # (n_mu_s, n_mu n_nu, 9)
         self.beta_r = np.asarray(atm.rayleigh.scattering_m)
         self.beta_m = np.asarray(atm.mie.scattering_m)
-        self.mie_kernels = _mie_kernels(atm, views[0], dirs, weights, n_phi, density_shape[0])
+        self.mie_kernels = _mie_kernels(atm, views[0], dirs, weights, ends, n_phi, density_shape[0])
         self.kernel_groups = [(k, [w for w, other in enumerate(self.mie_kernels) if other is k])
                               for k in {id(k): k for k in self.mie_kernels}.values()]
         self.forward_j = forward_factor(atm, nu_j)                      # (1, n_mu, n_nu, n_mu_s, W)

@@ -69,19 +69,26 @@ def split_ray_nodes(atm, r, mu, d, n, depth=3.0, fine=64):
     Gauss-Legendre rule over the whole ray puts its first nodes kilometres apart.
     """
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
-    tf, wf = ray_nodes(r, mu, d, fine)
-    order = np.argsort(tf, -1)
-    tf, wf = np.take_along_axis(tf, order, -1), np.take_along_axis(wf, order, -1)
-    beta = atm.extinction(altitude(r[..., None], mu[..., None], tf, atm.bottom_radius_m)).max(-1)
-    tau = np.cumsum(beta * wf, -1)
-    reached = tau >= depth
-    first = np.where(reached.any(-1), np.argmax(reached, -1), tf.shape[-1] - 1)
-    t_split = np.where(reached.any(-1), np.take_along_axis(tf, first[..., None], -1)[..., 0], d)
+    t_split = depth_distance(atm, r, mu, d, depth, fine)
     t1, w1 = ray_nodes(r, mu, t_split, n)
     r_s = np.sqrt(np.maximum(t_split * t_split + 2.0 * r * mu * t_split + r * r, 0.0))
     mu_s = np.clip((r * mu + t_split) / np.maximum(r_s, 1e-300), -1.0, 1.0)
     t2, w2 = ray_nodes(r_s, mu_s, d - t_split, n)
     return np.concatenate([t1, t_split[..., None] + t2], -1), np.concatenate([w1, w2], -1)
+
+
+def depth_distance(atm, r, mu, d, depth=3.0, fine=64):
+    """The distance [m] along the rays (r, mu) of length d at which the optical depth of the most extinguished
+    wavelength reaches ``depth`` (d where it does not): the node of :func:`ray_nodes` (``fine`` per side) where
+    the sum over the nodes first reaches it."""
+    r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
+    tf, wf = ray_nodes(r, mu, d, fine)
+    order = np.argsort(tf, -1)
+    tf, wf = np.take_along_axis(tf, order, -1), np.take_along_axis(wf, order, -1)
+    beta = atm.extinction(altitude(r[..., None], mu[..., None], tf, atm.bottom_radius_m)).max(-1)
+    reached = np.cumsum(beta * wf, -1) >= depth
+    first = np.where(reached.any(-1), np.argmax(reached, -1), tf.shape[-1] - 1)
+    return np.where(reached.any(-1), np.take_along_axis(tf, first[..., None], -1)[..., 0], d)
 
 
 def altitude(r, mu, t, bottom):
