@@ -322,6 +322,7 @@ def _view_vectors(mu, mu_s, nu):
 #: follows the view within 0-4% (the point rule's 5-46% high), but the lobe's weight then goes to the one direction
 #: of its cell, where the point rule, renormalised, spreads it over the directions next to its axis, and order 2 from
 #: Mars's ground 45 deg up away from the sun reads 7.9-11.4% low against its direct integration (2.0-4.2% with 1;
+#: both with the ``hemispheres`` quadrature and the kernels renormalised over the whole sphere;
 #: tests/test_multiple_scattering.py); the suite by day moves by less than its noise either way (docs/benchmarks.md,
 #: "Orders above the first near the top").
 KERNEL_CELL_SAMPLES = 1

@@ -79,9 +79,9 @@ CONDITIONS = (
     Condition("optically thick", "the vertical optical depth", largest_vertical_optical_depth, 1.0,
               rms=0.046, p95=0.120, noise=0.026),
     Condition("forward lobe", "the particles' strongest forward lobe g", strongest_forward_lobe, FORWARD_LOBE_G,
-              rms=0.026, p95=0.059, noise=0.011),
+              rms=0.021, p95=0.048, noise=0.011),
     Condition("large planet", "the planet radius [m]", lambda atm: atm.bottom_radius_m, 1e8,
-              rms=0.043, p95=0.119, noise=0.022),
+              rms=0.041, p95=0.096, noise=0.022),
 )
 
 
