@@ -445,8 +445,7 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
     view_row = np.moveaxis(view_row.reshape(views.shape[:3]), 2, 0)[s_i].reshape(len(first), -1, 1)
     point_ends = ends[r_i, s_i]
     cosines = dirs[r_i, s_i][..., 2]                                                   # (U, K)
-    piece = np.clip(np.stack([np.searchsorted(e, c, side="right") - 1 for e, c in zip(point_ends, cosines)]),
-                    0, point_ends.shape[-1] - 2)
+    piece = np.minimum((point_ends[:, None, 1:] <= cosines[..., None]).sum(-1), point_ends.shape[-1] - 2)
     x, G = _cap_integrals([lambda c, w=lobes.index(lobe): atm.mie.phase_function(c)[..., w] for lobe in tabs], mu_v)
     masses = _piece_masses(x, G, point_ends)
     in_piece = (piece[..., None] == np.arange(point_ends.shape[-1] - 1)).astype(np.float32)   # (U, K, pieces)
