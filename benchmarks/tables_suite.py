@@ -67,6 +67,8 @@ def compare(split, args):
         sizes = replace(sizes, scattering=tuple(args.scattering))
     if args.quadrature:
         sizes = replace(sizes, quadrature=args.quadrature)
+    if args.transmittance:
+        sizes = replace(sizes, transmittance=tuple(args.transmittance))
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
         tables = precompute(atm, sizes, cache=cache)
         for light in LIGHT:
@@ -141,6 +143,8 @@ def main():
                     help="the multiple-scattering tables' size instead of the quality level's")
     ap.add_argument("--scattering", type=int, nargs=4, metavar=("N_NU", "N_MU_S", "N_MU", "N_R"),
                     help="the single-scattering tables' size instead of the quality level's")
+    ap.add_argument("--transmittance", type=int, nargs=2, metavar=("N_MU", "N_R"),
+                    help="the transmittance table's size instead of the quality level's")
     ap.add_argument("--quadrature", choices=list(QUADRATURES),
                     help="the scattering density's direction quadrature instead of the quality level's")
     args = ap.parse_args()

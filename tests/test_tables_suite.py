@@ -13,6 +13,9 @@ from planetviz.validation.single_scattering import reference_single_scattering, 
 #: The targets of the standard tables per light class: RMS relative error per ray class.
 TARGET_RMS = {"day": 0.01, "twilight": 0.03, "deep-twilight": 0.05}
 
+#: The daylight target's 95th percentile of the relative error per ray class.
+TARGET_P95_DAY = 0.03
+
 
 @pytest.mark.slow
 @pytest.mark.parametrize("light", list(TARGET_RMS))
@@ -23,7 +26,10 @@ def test_first_order_meets_the_target_in_every_class(split, light):
     # rays of the light class and the split's first 8 random atmospheres, the difference relative to the whole
     # radiance (the stored 4096-path reference, all orders; its noise, 0.5-3% by day, only scales the figure).
     # Bound: the light class's target for all orders itself, per camera class, which the first order must meet
-    # on its own. Where the tables were read for the first order of the twilight rays, the classes read 3-12% RMS
+    # on its own; by day also every value within the target's 95th percentile (3%), which 5% of a class's values
+    # may exceed only if the other orders bring them back. With the transmittance table at 64 r rows instead of
+    # 128 the held-out split's ground ray along the horizon of random atmosphere 100000 (radius 1.4e8 m, optical
+    # depth 3 at 440 nm) read 4.0% of the whole radiance low. Where the tables were read for the first order of the twilight rays, the classes read 3-12% RMS
     # (twilight) and up to 184 times the whole radiance (deep twilight, limb rays in the planet's shadow); by day,
     # tables that held S instead of S / (1 - T) read the class within 100 m of the top 19.6% (tuning) and 21.4%
     # (held-out) RMS off, relative to the first order alone. The orders above the first are not checked here
@@ -43,3 +49,6 @@ def test_first_order_meets_the_target_in_every_class(split, light):
             errors[camera].append((got[k] - want[k])[lit] / total[k][lit])
     rms = {camera: float(np.sqrt(np.mean(np.concatenate(e) ** 2))) for camera, e in errors.items()}
     assert max(rms.values()) <= TARGET_RMS[light], rms
+    if light == "day":
+        worst = {camera: float(np.max(np.abs(np.concatenate(e)))) for camera, e in errors.items()}
+        assert max(worst.values()) <= TARGET_P95_DAY, worst

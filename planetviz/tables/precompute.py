@@ -43,7 +43,7 @@ from .validated import FORWARD_LOBE_G, strongest_forward_lobe
 class TableSizes:
     """Table resolutions and sample counts (see ``QUALITY`` for the named levels)."""
 
-    transmittance: tuple = (256, 64)          # (n_mu, n_r)
+    transmittance: tuple = (256, 128)         # (n_mu, n_r)
     irradiance: tuple = (256, 16)             # (n_mu_s, n_r)
     scattering: tuple = (8, 48, 192, 32)      # (n_nu, n_mu_s, n_mu, n_r)
     transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
@@ -59,7 +59,7 @@ class TableSizes:
 
 #: Named quality levels (measured in docs/benchmarks.md: precompute time and error against the reference).
 QUALITY = {
-    "draft": TableSizes(transmittance=(128, 32), irradiance=(64, 8), scattering=(4, 16, 64, 16),
+    "draft": TableSizes(transmittance=(128, 64), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         lobe_nu=4, lobe_mu_s=16, multiple_samples=4, directions=(8, 8), tolerance=1e-2),
     "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 120, 32), scattering_samples=8,
