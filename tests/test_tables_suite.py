@@ -29,8 +29,8 @@ def test_first_order_meets_the_target_in_every_class(split, light):
     # on its own; by day also every value within the target's 95th percentile (3%), which 5% of a class's values
     # may exceed only if the other orders bring them back. With the transmittance table at 64 r rows instead of
     # 128 the held-out split's ground ray along the horizon of random atmosphere 100000 (radius 1.4e8 m, optical
-    # depth 3 at 440 nm) read 4.0% of the whole radiance low. Where the tables were read for the first order of the twilight rays, the classes read 3-12% RMS
-    # (twilight) and up to 184 times the whole radiance (deep twilight, limb rays in the planet's shadow); by day,
+    # depth 3 at 440 nm) read 4.0% of the whole radiance low. Where the tables were read for the first order of
+    # the twilight rays, the classes read 3-12% RMS (twilight) and up to 184 times the whole radiance (deep twilight, limb rays in the planet's shadow); by day,
     # tables that held S instead of S / (1 - T) read the class within 100 m of the top 19.6% (tuning) and 21.4%
     # (held-out) RMS off, relative to the first order alone. The orders above the first are not checked here
     # (the reference's noise, 0.5-3% per class at 4096 paths by day, is above a third of the target).

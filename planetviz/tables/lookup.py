@@ -382,7 +382,7 @@ def geometric_blend(a, b, f):
     plain = a.min(initial=np.inf) >= SMALLEST and ratio.min(initial=1.0) >= ZERO_FLOOR \
         and ratio.max(initial=1.0) <= 1.0 / ZERO_FLOOR
     if plain:
-        a_f, lit = a, True
+        a_f = a
     else:
         lit = (a > 0) | (b > 0)
         a_f = np.maximum(a, ZERO_FLOOR * b)
