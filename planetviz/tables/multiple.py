@@ -21,9 +21,12 @@ For order n >= 2, on the grid of the multiple-scattering table (coarser than the
    quadrature integrates exactly; the Mie part from a kernel renormalised on each piece of the quadrature's
    cosines (the ground's side of the horizon, the lit band, the sky) to P_M's integral over it
    (``_mie_kernels``: a coarse direction set cannot resolve a forward peak: renormalising keeps energy right,
-   and each piece keeps its share of a lobe that straddles the horizon);
+   and each piece keeps its share of a lobe that straddles the horizon); the incident light last scattered by
+   particles carries their lobe toward the sun, whose aureole the directions sample as coarsely: what they miss
+   of the exact integral of each phase function times that lobe (``lobe_convolutions``) is added per view, times
+   that light in the sun's direction over the lobe there;
 3. indirect irradiance E_{n-1}(r, mu_s) = sum_{w_z > 0} w_z L_{n-1}(w) dw (sky light only), the particles'
-   part renormalised for their lobe toward the sun (``lobe_irradiance_factors``);
+   part's aureole around the sun added as for J (``lobe_irradiance_excess``);
 4. S_n(r, mu, mu_s, nu) = int_0^d T(x, x_t) J_n(r_t, mu_t, mu_s,t, nu) dt (J read from its table; Gauss-Legendre
    nodes clustered at the closest approach, ``nodes.LONG_RAY_NODE_FACTOR`` times as many along rays
    longer than the ground's horizontal ray to the top, as in the single-scattering stage).
@@ -53,7 +56,7 @@ from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_botto
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
 from .validated import particle_scattering_share
-from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein
+from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein, henyey_greenstein
 
 #: In optically thick atmospheres (vertical optical depth above 1 at some wavelength) the scattering density is
 #: iterated from itself on this many times S's r rows: the incident light at its points integrated from the
@@ -269,17 +272,18 @@ class _Incident:
         return both[..., :W] * self.multiple_factor, self.forward * both[..., W:] * self.multiple_factor
 
     def radiance(self, tables, atm, order, ms_prev, irr_prev, density_prev=None):
-        """L_order (..., K, W): sky radiance of that order plus the ground lit by E_{order-1}."""
+        """(L_order, its light last scattered by particles) (..., K, W): L_order is the sky radiance of that order
+        plus the ground lit by E_{order-1}."""
         molecules, particles = self.sky_parts(tables, atm, order, ms_prev, density_prev)
         sky = molecules + particles
         if not self.with_ground:
-            return sky
+            return sky, particles
         bottom = np.full(self.mu_s_g.shape, tables.bottom)
         if order == 1:
             e = get_transmittance_to_sun(tables, bottom, self.mu_s_g) * np.maximum(self.mu_s_g, 0.0)[..., None]
         else:
             e = get_irradiance(tables, bottom, self.mu_s_g, table=irr_prev)
-        return sky + self.ground_factor * e
+        return sky + self.ground_factor * e, particles
 
 
 def forward_factor(atm, nu):
@@ -550,29 +554,24 @@ def sun_centred_quadrature(mu_s, n_alpha, n_beta):
     return dirs, dw * np.maximum(z, 0.0)
 
 
-def lobe_irradiance_factors(atm, dirs, cos_weights, mu_s, fine=32):
-    """(order 1, orders >= 2) factors (n_mu_s, W) on the particles' part of the sky radiance in the irradiance
-    integral E = sum_k c_k [L_R(w_k) + f L_M(w_k)] over the upward directions ``dirs`` (K, 3) with weights
-    ``cos_weights`` (K,) (mirrored azimuths included), for suns at mu_s (n_mu_s,).
+def lobe_irradiance_excess(atm, dirs, cos_weights, mu_s, fine=32):
+    """(order 1, orders >= 2) (n_mu_s, W): what the irradiance's quadrature sum_k c_k lobe(w_k . s) over the upward
+    directions ``dirs`` (K, 3) with weights ``cos_weights`` (K,) (mirrored azimuths included) misses of
+    int_{w_z > 0} lobe(w . s) w_z dw, on a fine grid around the sun (``sun_centred_quadrature``), for suns at mu_s
+    (n_mu_s,) and the particles' lobe toward the sun: P_M for order 1, F (``forward_factor``) above.
 
-    L_M is a smooth function times the particles' lobe toward the sun: the phase function P_M(nu) for order 1
-    (single scattering without phase times P_M), the shape F(nu) of the particles' orders above
-    (``forward_factor``). f = int_{w_z > 0} lobe(w . s) w_z dw / sum_k c_k lobe(w_k . s), the integral on a
-    fine grid around the sun (``sun_centred_quadrature``): exact for a constant smooth part, as the Mie
-    kernels of J are renormalised. Under Mars dust's g = 0.91 lobe the 10x10 grid alone read the sky's
-    irradiance of the ground 33% low at 440 nm with the sun 60 deg up (against the tables' own sky integrated
-    over 96x192 directions); the ground seen from above and every order after read low with it."""
+    The particles' sky light is a smooth function sigma times that lobe; its aureole, which the upward directions
+    alone miss or catch on one of them, gets this times sigma in the sun's direction. Under Mars dust's g = 0.91
+    lobe the 10x10 grid alone read the sky's irradiance of the ground 33% low at 440 nm with the sun 60 deg up
+    (against the tables' own sky integrated over 96x192 directions); the ground seen from above and every order
+    after read low with it."""
     mu_s = np.asarray(mu_s, dtype=float)
     sin_s = np.sqrt(np.maximum(1.0 - mu_s * mu_s, 0.0))[:, None]
     nu = dirs[:, 0] * sin_s + dirs[:, 2] * mu_s[:, None]
     fine_dirs, fine_weights = sun_centred_quadrature(mu_s, fine, fine)
     nu_fine = fine_dirs[..., 0] * sin_s + fine_dirs[..., 2] * mu_s[:, None]
-    out = []
-    for lobe in (atm.mie.phase_function, lambda c: forward_factor(atm, c)):
-        grid = np.einsum("k,nkw->nw", cos_weights, lobe(nu))
-        exact = np.einsum("nk,nkw->nw", fine_weights, lobe(nu_fine))
-        out.append(exact / grid)
-    return out
+    return [np.einsum("nk,nkw->nw", fine_weights, lobe(nu_fine)) - np.einsum("k,nkw->nw", cos_weights, lobe(nu))
+            for lobe in (atm.mie.phase_function, lambda c: forward_factor(atm, c))]
 
 
 def density_grid(mu_s, n_mu, n_nu):
@@ -614,9 +613,9 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     molecules and by particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used;
     the top tables of upward views (:func:`top_source`).
 
-    Steps: the incident light's and the irradiance's direction quadratures (``_Incident``); the scattering
-    density's grid and phase kernels (``_DensityKernels``); the integration paths of S's texels
-    (``_ray_paths``); then order by order the incident light of the order before, the scattering density J
+    Steps: the incident light's directions (the quadrature's, and the sun's for the aureole the quadrature
+    misses) and the irradiance's (``_Incident``); the scattering density's grid and phase kernels
+    (``_DensityKernels``); the integration paths of S's texels (``_ray_paths``); then order by order the incident light of the order before, the scattering density J
     (``_DensityKernels.density``), S integrated along the texels' rays, the irradiance, J on its top row for upward
     views, until the geometric tail of the orders is below ``tolerance`` of the total (or at ``max_orders``, where
     the tail is added); the top row's J as the top tables (:func:`top_source`).
@@ -649,15 +648,26 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     else:
         point_dirs, point_weights, ends = QUADRATURES[quadrature](r_axis, mu_s_axis, tables.bottom, scattering_top(atm),
                                                            n_theta, n_phi)
-    incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], point_dirs, shape, along_rays=along_rays)
+    # the incident light on the quadrature's directions and, last, the sun's (its particles' part over their lobe
+    # there is sigma_sun of ``_DensityKernels.density``)
+    sin_s = np.sqrt(np.maximum(1.0 - mu_s_axis ** 2, 0.0))
+    sun_dirs = np.stack([sin_s, np.zeros_like(sin_s), mu_s_axis], -1)[None, :, None]
+    points = (len(r_axis), len(mu_s_axis))
+    every_dir = np.concatenate([np.broadcast_to(point_dirs, points + point_dirs.shape[-2:]),
+                                np.broadcast_to(sun_dirs, points + (1, 3))], -2)
+    incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], every_dir, shape, along_rays=along_rays)
+    lobe_at_sun = (atm.mie.phase_function(1.0), forward_factor(atm, 1.0))
     n_mu_s_i, n_r_i = tables.sizes.irradiance
     u, v = np.meshgrid((np.arange(n_mu_s_i) + 0.5) / n_mu_s_i, (np.arange(n_r_i) + 0.5) / n_r_i)
     r_irr, mu_s_irr = r_mu_s_from_irradiance_uv(u, v, tables.bottom, tables.top, (n_mu_s_i, n_r_i))
     up = dirs[:, 2] > 0
-    sky_above = _Incident(tables, atm, r_irr, mu_s_irr, dirs[up], shape, with_ground=False)
+    sin_s_irr = np.sqrt(np.maximum(1.0 - mu_s_irr ** 2, 0.0))
+    irr_dirs = np.concatenate([np.broadcast_to(dirs[up], r_irr.shape + dirs[up].shape),
+                               np.stack([sin_s_irr, np.zeros_like(sin_s_irr), mu_s_irr], -1)[..., None, :]], -2)
+    sky_above = _Incident(tables, atm, r_irr, mu_s_irr, irr_dirs, shape, with_ground=False)
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
-    # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_factors``)
-    lobe_factors = [f[None, :, None, :] for f in lobe_irradiance_factors(atm, dirs[up], cos_weights, mu_s_irr[0])]
+    # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_excess``)
+    lobe_excess = [f[None, :, :] for f in lobe_irradiance_excess(atm, dirs[up], cos_weights, mu_s_irr[0])]
     kernels = _DensityKernels(atm, size, mu_s, point_dirs, point_weights, ends, density_shape, n_phi)
     forward = forward_factor(atm, nu)                          # F(nu) at S's texels
 
@@ -673,10 +683,12 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     last = None
     order = 1
     for order in range(2, max_orders + 1):
-        L = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev, J_prev)  # (n_r, n_mu_s, K, W)
+        L, particles = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev, J_prev)  # (n_r, n_mu_s, K + 1, W)
+        sigma_sun = particles[..., -1, :] / lobe_at_sun[order > 2]
         molecules, particles = sky_above.sky_parts(tables, atm, order - 1, ms_prev)
-        e = np.einsum("k,abkw->abw", cos_weights, molecules + lobe_factors[order > 2] * particles)
-        J = kernels.density(L)
+        e = np.einsum("k,abkw->abw", cos_weights, molecules[..., :-1, :] + particles[..., :-1, :]) + \
+            lobe_excess[order > 2] * particles[..., -1, :] / lobe_at_sun[order > 2]
+        J = kernels.density(L[..., :-1, :], sigma_sun, order - 1)
         S = np.empty(shape + (2 * W,))                                            # [S_R, S_M / F(nu)]
         for rays, stencil, node_weight in paths:
             S[rays] = stencil.apply(J, along=node_weight)
@@ -735,11 +747,55 @@ def top_source(atm, density):
     return density[..., :W] * rho_r * per_beta, density[..., W:] * rho_m * per_beta
 
 
+def _hg_terms(atm):
+    """The particles' lobes as sums of Henyey-Greenstein terms, (weights, g) each (n_terms, W): the phase function
+    P_M of order 1's light (``Mie.phase_function``) and the shape F of the orders above (``forward_factor``, its
+    isotropic part a term of g = 0)."""
+    g1, g2, alpha = (np.asarray(x, dtype=float) for x in (atm.mie.g1, atm.mie.g2, atm.mie.alpha))
+    share = particle_scattering_share(atm)
+    phase = (np.stack([alpha, 1.0 - alpha]), np.stack([g1, g2]))
+    shape = (np.stack([share * alpha, share * (1.0 - alpha), 1.0 - share]),
+             np.stack([np.maximum(g1, 0.0) ** 2, np.maximum(g2, 0.0) ** 2, np.zeros_like(g1)]))
+    return phase, shape
+
+
+def lobe_convolutions(atm, nu):
+    """For the particles' lobe toward the sun in the incident light of order 1 (P_M) and of the orders above (F),
+    the exact integrals over the sphere int P(v . w) lobe(w . s) dw [1/sr] as functions of nu = v . s (...,):
+    ((P_R * P_M, P_M * P_M), (P_R * F, P_M * F)), each (..., W).
+
+    Both phase functions and both lobes are sums of Henyey-Greenstein terms (``_hg_terms``, P_R of Legendre
+    moments 1 and f_2) and the sphere's addition theorem multiplies Legendre moments, HG(g) having g^l:
+    HG(a) * HG(b) = HG(a b), and P_R * lobe = (1 + 5 f_2 h_2 P_2(nu)) / (4 pi) with h_2 the lobe's second moment,
+    f_2 = 2 A / (15 + 5 A) for P_R = (1 + A nu^2) / (4 pi (1 + A / 3)) (1/10 for Rayleigh's A = 1).
+    tests/test_multiple_scattering.py checks both against brute-force integrals."""
+    nu = np.asarray(nu, dtype=float)[..., None, None]
+    a = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
+    f_2 = 2.0 * a / (15.0 + 5.0 * a)
+    p_2 = 0.5 * (3.0 * nu[..., 0, :] ** 2 - 1.0)
+    (c_p, g_p), lobes = _hg_terms(atm)[0], _hg_terms(atm)
+    out = []
+    for c_l, g_l in lobes:
+        h_2 = np.sum(c_l * g_l ** 2, 0)
+        rayleigh = (1.0 + 5.0 * f_2 * h_2 * p_2) / (4.0 * np.pi)
+        mie = np.sum((c_p[:, None] * c_l[None]).reshape(-1, c_p.shape[-1]) *
+                     henyey_greenstein(nu, (g_p[:, None] * g_l[None]).reshape(-1, g_p.shape[-1])), -2)
+        out.append((rayleigh, mie))
+    return tuple(out)
+
+
 class _DensityKernels:
     """The scattering density J on its own grid (S's mu_s texels and r rows, THICK_DENSITY_ROWS times as many
     rows in a thick atmosphere), per unit density of each component: the Rayleigh-like phase
     (1 + A c^2) / (4 pi (1 + A / 3)) by moments of the incident light, Mie by renormalised kernels
-    (``_mie_kernels``), the particles' part divided by F(nu) (``forward_factor``)."""
+    (``_mie_kernels``), the particles' part divided by F(nu) (``forward_factor``).
+
+    The light last scattered by particles is a slowly varying function sigma times their lobe toward the sun (P_M
+    in order 1, F above; ``sky_parts``), which a direction quadrature samples as coarsely as the phase function:
+    the aureole around the sun, of a few degrees under g = 0.9, falls between its directions or on one of them.
+    What the quadrature's sum of each phase function times the lobe misses of its exact integral
+    (:func:`lobe_convolutions`), per view v, is the aureole's (``lobe_excess``); J gets it back times sigma in the
+    sun's direction (``density``'s ``sigma_sun``)."""
 
     def __init__(self, atm, size, mu_s, dirs, weights, ends, density_shape, n_phi):
         self.a_coef = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
@@ -759,30 +815,55 @@ class _DensityKernels:
         self.weights = weights
         self.shape = density_shape
         self.W = atm.n_wavelengths
+        mu_s_axis = mu_s[0, 0, 0, :]
+        sin_s = np.sqrt(np.maximum(1.0 - mu_s_axis ** 2, 0.0))
+        dirs = np.broadcast_to(dirs, (density_shape[0], len(mu_s_axis)) + dirs.shape[-2:])
+        nu_k = dirs[..., 0] * sin_s[:, None] + dirs[..., 2] * mu_s_axis[:, None]          # (n_r, n_mu_s, K)
+        lobes = (atm.mie.phase_function(nu_k), forward_factor(atm, nu_k))
+        self.lobe_excess = [(exact[0] - self._rayleigh_like(lobe), exact[1] - self._mie(lobe))
+                            for lobe, exact in zip(lobes, lobe_convolutions(atm, nu_j))]
 
-    def density(self, L):
-        """J (density grid + (2W,), float32: [J_R, J_M / F]) from the incident light L (n_r, n_mu_s, K, W) on
-        the quadrature's directions (their mirror images about the sun's plane included by symmetry).
-
-        J per unit density of each component: its angular part varies slowly with altitude; the density,
-        which does not, is applied exactly at every integration node."""
-        W = self.W
+    def _rayleigh_like(self, L):
+        """sum_w P_R(w . v) L(w) dw at every view of the density grid, (density grid + (W,)), by the zeroth and
+        second angular moments of L (n_r, n_mu_s, K, W), which the quadrature integrates exactly."""
+        W = L.shape[-1]
         w_full = np.concatenate([self.weights, self.weights], axis=-1)
         L_full = np.concatenate([L, L], axis=2) * w_full[..., None]
         m0 = L_full.sum(2)                                                          # (n_r, n_mu_s, W)
-        n_r, n_mu_s, K = L.shape[:3]
+        n_r, n_mu_s = L.shape[:2]
         m2 = np.matmul(self.outer, L_full)                                          # (n_r, n_mu_s, 9, W)
         # v^T m2 v at every view: one matrix product per mu_s, (n_mu n_nu, 9) by (9, n_r W)
         quad = np.matmul(self.vv, np.moveaxis(m2, 0, 2).reshape(n_mu_s, 9, n_r * W))
         quad = np.moveaxis(quad.reshape((n_mu_s,) + self.shape[1:3] + (n_r, W)), (0, 3), (3, 0))
-        J = np.empty(self.shape + (2 * W,), np.float32)
-        J[..., :W] = self.beta_r * (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
+        return (m0[:, None, None] + self.a_coef * quad) / (4 * np.pi * (1 + self.a_coef / 3))
+
+    def _mie(self, L):
+        """sum_w P_M(w . v) L(w) dw by the renormalised kernels at every view of the density grid, (density grid +
+        (n W,)), float32, for L (n_r, n_mu_s, K, n W) (n quantities per wavelength, wavelength-minor)."""
+        n_r, n_mu_s, K = L.shape[:3]
+        out = np.empty(self.shape + (L.shape[-1],), np.float32)
         for kernel, ws in self.kernel_groups:
-            # one matrix product per point (r, mu_s) for all the wavelengths that share the kernel
+            # one matrix product per point (r, mu_s) for all the channels of the wavelengths that share the kernel
+            cols = [w + k for k in range(0, L.shape[-1], self.W) for w in ws]
             mie = np.matmul(kernel.reshape(n_r * n_mu_s, -1, K),
-                            L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
-            mie = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(ws)), 1, 3)   # J's axes, then w
-            J[..., [W + w for w in ws]] = self.beta_m[ws] * mie / self.forward_j[..., ws]
+                            L[..., cols].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
+            out[..., cols] = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(cols)), 1, 3)
+        return out
+
+    def density(self, L, sigma_sun, order):
+        """J (density grid + (2W,), float32: [J_R, J_M / F]) from the incident light L of ``order`` (n_r, n_mu_s,
+        K, W) on the quadrature's directions (their mirror images about the sun's plane included by symmetry), plus
+        the aureole the quadrature misses, ``lobe_excess`` times ``sigma_sun`` (n_r, n_mu_s, W), the light last
+        scattered by particles in the sun's direction over their lobe there.
+
+        J per unit density of each component: its angular part varies slowly with altitude; the density,
+        which does not, is applied exactly at every integration node."""
+        W = self.W
+        excess_r, excess_m = self.lobe_excess[order > 1]
+        sigma = sigma_sun[:, None, None]                                   # on J's axes (n_r, ., ., n_mu_s, W)
+        J = np.empty(self.shape + (2 * W,), np.float32)
+        J[..., :W] = self.beta_r * (self._rayleigh_like(L) + excess_r * sigma)
+        J[..., W:] = self.beta_m * (self._mie(L) + excess_m * sigma) / self.forward_j
         return J
 
 
