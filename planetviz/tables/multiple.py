@@ -554,6 +554,12 @@ def sun_centred_quadrature(mu_s, n_alpha, n_beta):
     return dirs, dw * np.maximum(z, 0.0)
 
 
+def _sun_direction(mu_s):
+    """The sun's direction (..., 3) in the frame where z is the zenith and the sun lies in the x-z plane (x >= 0)."""
+    mu_s = np.asarray(mu_s, dtype=float)
+    return np.stack([np.sqrt(np.maximum(1.0 - mu_s * mu_s, 0.0)), np.zeros_like(mu_s), mu_s], -1)
+
+
 def lobe_irradiance_excess(atm, dirs, cos_weights, mu_s, fine=32):
     """(order 1, orders >= 2) (n_mu_s, W): what the irradiance's quadrature sum_k c_k lobe(w_k . s) over the upward
     directions ``dirs`` (K, 3) with weights ``cos_weights`` (K,) (mirrored azimuths included) misses of
@@ -615,10 +621,11 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
 
     Steps: the incident light's directions (the quadrature's, and the sun's for the aureole the quadrature
     misses) and the irradiance's (``_Incident``); the scattering density's grid and phase kernels
-    (``_DensityKernels``); the integration paths of S's texels (``_ray_paths``); then order by order the incident light of the order before, the scattering density J
-    (``_DensityKernels.density``), S integrated along the texels' rays, the irradiance, J on its top row for upward
-    views, until the geometric tail of the orders is below ``tolerance`` of the total (or at ``max_orders``, where
-    the tail is added); the top row's J as the top tables (:func:`top_source`).
+    (``_DensityKernels``); the integration paths of S's texels (``_ray_paths``); then order by order the incident
+    light of the order before, the scattering density J (``_DensityKernels.density``), S integrated along the
+    texels' rays, the irradiance, J on its top row for upward views, until the geometric tail of the orders is below
+    ``tolerance`` of the total (or at ``max_orders``, where the tail is added); the top row's J as the top tables
+    (:func:`top_source`).
 
     ``quadrature``: the incident light's directions at the density's points (``QUADRATURES``), ``"hemispheres"``
     (``direction_quadrature``, the same at every point), ``"horizon"`` (``horizon_quadrature``, split at each row's
@@ -650,20 +657,17 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
                                                            n_theta, n_phi)
     # the incident light on the quadrature's directions and, last, the sun's (its particles' part over their lobe
     # there is sigma_sun of ``_DensityKernels.density``)
-    sin_s = np.sqrt(np.maximum(1.0 - mu_s_axis ** 2, 0.0))
-    sun_dirs = np.stack([sin_s, np.zeros_like(sin_s), mu_s_axis], -1)[None, :, None]
     points = (len(r_axis), len(mu_s_axis))
     every_dir = np.concatenate([np.broadcast_to(point_dirs, points + point_dirs.shape[-2:]),
-                                np.broadcast_to(sun_dirs, points + (1, 3))], -2)
+                                np.broadcast_to(_sun_direction(mu_s_axis)[None, :, None], points + (1, 3))], -2)
     incident = _Incident(tables, atm, r_axis[:, None], mu_s_axis[None, :], every_dir, shape, along_rays=along_rays)
     lobe_at_sun = (atm.mie.phase_function(1.0), forward_factor(atm, 1.0))
     n_mu_s_i, n_r_i = tables.sizes.irradiance
     u, v = np.meshgrid((np.arange(n_mu_s_i) + 0.5) / n_mu_s_i, (np.arange(n_r_i) + 0.5) / n_r_i)
     r_irr, mu_s_irr = r_mu_s_from_irradiance_uv(u, v, tables.bottom, tables.top, (n_mu_s_i, n_r_i))
     up = dirs[:, 2] > 0
-    sin_s_irr = np.sqrt(np.maximum(1.0 - mu_s_irr ** 2, 0.0))
     irr_dirs = np.concatenate([np.broadcast_to(dirs[up], r_irr.shape + dirs[up].shape),
-                               np.stack([sin_s_irr, np.zeros_like(sin_s_irr), mu_s_irr], -1)[..., None, :]], -2)
+                               _sun_direction(mu_s_irr)[..., None, :]], -2)
     sky_above = _Incident(tables, atm, r_irr, mu_s_irr, irr_dirs, shape, with_ground=False)
     cos_weights = 2.0 * weights[up] * dirs[up, 2]            # x2: the mirrored azimuths
     # the particles' lobe in the sky of order 1 is P_M, in the orders above F (``lobe_irradiance_excess``)
@@ -685,9 +689,9 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     for order in range(2, max_orders + 1):
         L, particles = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev, J_prev)  # (n_r, n_mu_s, K + 1, W)
         sigma_sun = particles[..., -1, :] / lobe_at_sun[order > 2]
-        molecules, particles = sky_above.sky_parts(tables, atm, order - 1, ms_prev)
-        e = np.einsum("k,abkw->abw", cos_weights, molecules[..., :-1, :] + particles[..., :-1, :]) + \
-            lobe_excess[order > 2] * particles[..., -1, :] / lobe_at_sun[order > 2]
+        molecules, sky_particles = sky_above.sky_parts(tables, atm, order - 1, ms_prev)
+        e = np.einsum("k,abkw->abw", cos_weights, molecules[..., :-1, :] + sky_particles[..., :-1, :]) + \
+            lobe_excess[order > 2] * sky_particles[..., -1, :] / lobe_at_sun[order > 2]
         J = kernels.density(L[..., :-1, :], sigma_sun, order - 1)
         S = np.empty(shape + (2 * W,))                                            # [S_R, S_M / F(nu)]
         for rays, stencil, node_weight in paths:
@@ -773,7 +777,8 @@ def lobe_convolutions(atm, nu):
     a = 1.0 if atm.rayleigh.phase == "rayleigh" else PENNDORF_A
     f_2 = 2.0 * a / (15.0 + 5.0 * a)
     p_2 = 0.5 * (3.0 * nu[..., 0, :] ** 2 - 1.0)
-    (c_p, g_p), lobes = _hg_terms(atm)[0], _hg_terms(atm)
+    lobes = _hg_terms(atm)
+    c_p, g_p = lobes[0]
     out = []
     for c_l, g_l in lobes:
         h_2 = np.sum(c_l * g_l ** 2, 0)
@@ -839,15 +844,14 @@ class _DensityKernels:
 
     def _mie(self, L):
         """sum_w P_M(w . v) L(w) dw by the renormalised kernels at every view of the density grid, (density grid +
-        (n W,)), float32, for L (n_r, n_mu_s, K, n W) (n quantities per wavelength, wavelength-minor)."""
+        (W,)), float32, for L (n_r, n_mu_s, K, W)."""
         n_r, n_mu_s, K = L.shape[:3]
         out = np.empty(self.shape + (L.shape[-1],), np.float32)
         for kernel, ws in self.kernel_groups:
-            # one matrix product per point (r, mu_s) for all the channels of the wavelengths that share the kernel
-            cols = [w + k for k in range(0, L.shape[-1], self.W) for w in ws]
+            # one matrix product per point (r, mu_s) for all the wavelengths that share the kernel
             mie = np.matmul(kernel.reshape(n_r * n_mu_s, -1, K),
-                            L[..., cols].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
-            out[..., cols] = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(cols)), 1, 3)
+                            L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
+            out[..., ws] = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(ws)), 1, 3)
         return out
 
     def density(self, L, sigma_sun, order):
