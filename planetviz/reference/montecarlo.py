@@ -23,9 +23,10 @@ Method. L = L_1 + L_{>=2}:
     the next vertex scatters toward x straight from the sun is estimated before that vertex is sampled:
     one collision drawn only from the sun-lit part of the segment (the planet's shadow is an interval of
     the line, :mod:`planetviz.reference.shadow`), plus the directly lit ground at the segment's end,
-    exactly. Where the segment meets the shadow, T_sun climbs from 0 at the shadow's edge, so the
-    collision is drawn in proportion to it too (:func:`_next_event`). Light from vertices in the shadow,
-    which is zero, is never sampled.
+    exactly. The collision is drawn from strata of equal length of the lit part, each weighted by
+    its collision mass times a bound on the single-scattering albedo times T_sun in it (:func:`_strata`),
+    so that neither an absorbing layer nor T_sun's climb out of the shadow gives a rare draw a large
+    weight. Light from vertices in the shadow, which is zero, is never sampled.
   - **Directions**: drawn from the local Rayleigh/Mie phase mixture around the previous direction (the
     cosine law at the ground) with probability 1 - EPSILON, and with probability EPSILON from a guide pdf
     around the sun (a Henyey-Greenstein lobe of g = GUIDE_SUN_G, half and half with the Mie phase function
@@ -62,7 +63,7 @@ from .shadow import shadow_interval
 from .single import single_scattering
 
 #: Version of the estimator; stored with every reference result under benchmarks/data/.
-SOLVER_VERSION = "4"
+SOLVER_VERSION = "5"
 #: Paths per ray and wavelength at each quality of ``planetviz radiance --method reference`` and
 #: ``planetviz sky`` (median relative standard errors in docs/benchmarks.md).
 QUALITY_SAMPLES = {"draft": 512, "standard": 4096, "high": 32768}
@@ -86,9 +87,12 @@ SAMPLERS = ("sobol", "random")
 SOBOL_EVENTS = 3
 REPLICAS = 32
 SOBOL_BITS = 30
-#: Strata of the next event's lit part, and the share of their mean T_sun every stratum keeps.
+#: Strata of the next event's lit part, and the share of their mass-weighted mean bound on the albedo times T_sun
+#: every stratum keeps (:func:`_strata`).
 STRATA = 16
 DEFENSIVE = 0.1
+#: The factor within which T_sun may vary along a segment for :func:`_strata` to take it as constant.
+SUN_FLAT = 2.0
 
 
 @dataclass
@@ -409,19 +413,26 @@ class _LitMass:
     """The collision probability along segments p + t d (t in [0, length]) outside the planet's shadow.
 
     F(t) = 1 - exp(-tau(t)) is the probability of a collision before t; the shadow covers [a, b], so the lit
-    mass is m_lit = F(a) + F(end) - F(b). :meth:`position` inverts it, the shadow skipped."""
+    mass is m_lit = F(a) + F(end) - F(b). :meth:`mass` is the lit mass before t, :meth:`position` its inverse,
+    the shadow skipped."""
 
     def __init__(self, atm, p, d, sun, length, t_nodes, tau):
         a, b = shadow_interval(p, d, sun, atm.bottom_radius_m)
         shade = a < b
-        a = np.where(shade, np.clip(a, 0.0, length), length)
-        b = np.where(shade, np.clip(b, 0.0, length), length)
-        self.meets_shadow = a < b                                 # within the segment
-        self.f_a = -np.expm1(-_locate(t_nodes, tau, a)[2])
-        self.f_b = -np.expm1(-_locate(t_nodes, tau, b)[2])
+        self.a = np.where(shade, np.clip(a, 0.0, length), length)
+        self.b = np.where(shade, np.clip(b, 0.0, length), length)
+        self.f_a = -np.expm1(-_locate(t_nodes, tau, self.a)[2])
+        self.f_b = -np.expm1(-_locate(t_nodes, tau, self.b)[2])
         self.f_end = -np.expm1(-tau[:, -1])
         self.m_lit = self.f_a + (self.f_end - self.f_b)
         self.t_nodes, self.tau = t_nodes, tau
+
+    def mass(self, ok, t):
+        """The lit collision mass before the distances t (P, K) of the segments ``ok`` (t outside the shadow)."""
+        tn, tb = self.t_nodes[ok], self.tau[ok]
+        k = t.shape[1]
+        f = -np.expm1(-_locate(np.repeat(tn, k, 0), np.repeat(tb, k, 0), t.ravel())[2]).reshape(t.shape)
+        return np.where(t <= self.a[ok, None], f, self.f_a[ok, None] + f - self.f_b[ok, None])
 
     def position(self, ok, u):
         """Distances (P, K) where the lit collision mass of the segments ``ok`` reaches u (P, K)."""
@@ -434,24 +445,59 @@ class _LitMass:
         return _invert(np.repeat(tn, k, 0), np.repeat(tb, k, 0), target.ravel()).reshape(len(tn), k)
 
 
-def _strata_weights(atm, w, p, d, sun, lit, ok):
-    """(P, STRATA) weights of the strata of equal lit mass of the segments ``ok``: 1, or where the segment
-    meets the shadow T_sun at the stratum's middle (2-panel quadrature; T_sun runs from 0 at the shadow's edge
-    up) over its largest plus DEFENSIVE times their mean, so none is left out (over the largest: where T_sun
-    underflows to a subnormal the mean times DEFENSIVE would be 0, and a draw could pick a stratum of weight 0)."""
-    n_ok = int(ok.sum())
-    weights = np.ones((n_ok, STRATA))
-    edge = np.nonzero(lit.meets_shadow[ok])[0]
-    if edge.size:
-        mid = lit.position(ok, (np.arange(STRATA) + 0.5) / STRATA * lit.m_lit[ok, None])[edge]
-        xm = p[ok][edge, None, :] + mid[..., None] * d[ok][edge, None, :]
-        sm = np.broadcast_to(sun[ok][edge, None, :], xm.shape)
-        t_mid = np.exp(-optical_depth(atm, xm, sm, np.inf, panels=2, index=w)[..., 0])
-        t_mid = np.where(np.isfinite(distance_to_ground(xm, sm, atm.bottom_radius_m)), 0.0, t_mid)
-        largest = t_mid.max(axis=1, keepdims=True)
-        t_mid = np.where(largest > 0.0, t_mid / np.where(largest > 0.0, largest, 1.0), 1.0)
-        weights[edge] = t_mid + DEFENSIVE * t_mid.mean(axis=1, keepdims=True)
-    return weights
+def _sun_bound(atm, w, x, sun, t, p, d):
+    """T_sun (P, K) at the strata's ends x (P, K, 3) (distances t along p + t d), or 1 along the segments where it
+    stays within a factor SUN_FLAT: probed first at the lit part's two ends and at the point of its closest
+    approach to the planet (where T_sun is least, unless the sun sets along the segment), one 16-point panel each;
+    0 behind the planet. A bound for :func:`_strata`'s pdf, not a term of the estimate."""
+    closest = np.clip(-np.einsum("ij,ij->i", p, d), t[:, 0], t[:, -1])
+    probes = np.stack([x[:, 0], p + closest[:, None] * d, x[:, -1]], 1)
+    sun_p = np.broadcast_to(sun[:, None, :], probes.shape)
+    probe = np.exp(-optical_depth(atm, probes, sun_p, np.inf, panels=1, index=w)[..., 0])
+    probe = np.where(np.isfinite(distance_to_ground(probes, sun_p, atm.bottom_radius_m)), 0.0, probe)
+    out = np.ones(t.shape)
+    varies = probe.min(axis=1) * SUN_FLAT < probe.max(axis=1)
+    if np.any(varies):
+        xv = x[varies]
+        sun_x = np.broadcast_to(sun[varies][:, None, :], xv.shape)
+        t_sun = np.exp(-optical_depth(atm, xv, sun_x, np.inf, panels=1, index=w)[..., 0])
+        out[varies] = np.where(np.isfinite(distance_to_ground(xv, sun_x, atm.bottom_radius_m)), 0.0, t_sun)
+    return out
+
+
+def _strata(atm, w, p, d, sun, lit, ok):
+    """(bounds (P, STRATA + 1), weights (P, STRATA)): the strata of the lit collision mass of the segments ``ok``
+    and the weight of each, over which :func:`_next_event` draws its collision.
+
+    The collision mass follows the extinction, the light the next event finds follows the scattering times
+    T_sun: where an absorbing layer holds most of the extinction, or T_sun climbs by orders of magnitude along
+    the segment (from the planet's shadow, or through the grazing sunlight of a thick atmosphere), drawing by
+    the mass alone finds the light on rare draws of large weight. So the lit part is cut into STRATA strata of
+    equal length, and each is weighted by its mass times a bound on q = (beta_scat / beta_ext) T_sun (the larger
+    q at its two ends; T_sun from :func:`_sun_bound`) plus DEFENSIVE times the mass-weighted mean bound. Within a
+    stratum the collision follows the mass, so a draw's weight is its q over that bound: at most about 1 where q
+    is monotonic across the stratum, and no rare draw carries a large weight. Where q is the same everywhere the
+    weights are the masses: the plain collision pdf. (q over its largest on the segment, and the mean at least
+    1e-6 of it: where T_sun underflows to a subnormal, or the strata where q is large hold no mass, a stratum with
+    mass could otherwise weigh 0 and the weights sum to 0.)"""
+    m_lit = lit.m_lit[ok, None]
+    a, b, length = lit.a[ok, None], lit.b[ok, None], lit.t_nodes[ok][:, -1:]
+    s = (a + length - b) * np.linspace(0.0, 1.0, STRATA + 1)                   # distance within the lit part
+    t = np.where(s <= a, s, b + (s - a))
+    bounds = np.maximum.accumulate(lit.mass(ok, t), axis=1)
+    bounds[:, 0], bounds[:, -1] = 0.0, m_lit[:, 0]
+    x = p[ok][:, None, :] + t[..., None] * d[ok][:, None, :]
+    h = np.linalg.norm(x, axis=-1) - atm.bottom_radius_m
+    b_r, b_m = atm.scattering(h)
+    ext = atm.extinction(h, w)[..., 0]
+    q = np.where(ext > 0.0, (b_r[..., w] + b_m[..., w]) / np.where(ext > 0.0, ext, 1.0), 1.0)
+    q = q * _sun_bound(atm, w, x, sun[ok], t, p[ok], d[ok])
+    largest = q.max(axis=1, keepdims=True)
+    q = np.where(largest > 0.0, q / np.where(largest > 0.0, largest, 1.0), 1.0)
+    bound = np.maximum(q[:, :-1], q[:, 1:])
+    mass = np.diff(bounds, axis=1)
+    mean = (mass * bound).sum(axis=1, keepdims=True) / np.maximum(mass.sum(axis=1, keepdims=True), 1e-300)
+    return bounds, mass * (bound + DEFENSIVE * np.maximum(mean, 1e-6))
 
 
 def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, u):
@@ -459,10 +505,9 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, u):
 
     1. The lit part of the segment and its collision probability m_lit (:class:`_LitMass`).
     2. One collision drawn from it gives beta_scat exp(-tau) P(d . s) T_sun over its pdf. The lit part is cut
-       into STRATA strata of equal collision probability weighted by :func:`_strata_weights` (in proportion
-       to T_sun where the segment meets the shadow, else uniformly); the one draw u picks the stratum and the
-       collision mass within it by inverting that piecewise-constant distribution, and the collision is found
-       from the optical-depth table.
+       into STRATA strata of equal length weighted by their collision mass times a bound on the albedo times
+       T_sun (:func:`_strata`); the one draw u picks the stratum and the collision mass within it by inverting
+       that piecewise-constant distribution, and the collision is found from the optical-depth table.
     3. The directly lit ground at the end adds T(segment) (a / pi) max(0, n . s) T_sun exactly.
     """
     out = np.zeros(len(p))
@@ -471,15 +516,17 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, u):
     if np.any(ok):
         n_ok = int(ok.sum())
         m_lit = lit.m_lit[ok]
-        weights = _strata_weights(atm, w, p, d, sun, lit, ok)
+        bounds, weights = _strata(atm, w, p, d, sun, lit, ok)
         cdf = np.cumsum(weights, axis=1)
         target = u[ok] * cdf[:, -1]
         pick = np.minimum((target[:, None] >= cdf).sum(axis=1), STRATA - 1)
         rows = np.arange(n_ok)
         below = np.where(pick > 0, cdf[rows, pick - 1], 0.0)
-        within = np.clip((target - below) / weights[rows, pick], 0.0, 1.0)
-        share = STRATA * weights[rows, pick] / cdf[:, -1]                     # pdf over the plain lit pdf
-        t = lit.position(ok, ((pick + within) / STRATA * m_lit)[:, None])[:, 0]
+        chosen = weights[rows, pick]
+        within = np.clip((target - below) / np.where(chosen > 0.0, chosen, 1.0), 0.0, 1.0)
+        mass = bounds[rows, pick + 1] - bounds[rows, pick]
+        share = chosen / np.where(mass > 0.0, mass, 1.0) * m_lit / cdf[:, -1]   # pdf over the plain lit pdf
+        t = lit.position(ok, (bounds[rows, pick] + within * mass)[:, None])[:, 0]
         x, b_r, b_m, tau_exact, sigma, tau_t = collision_point(atm, w, p[ok], d[ok], t_nodes[ok], tau[ok], t)
         nu = np.clip(np.einsum("ij,ij->i", d[ok], sun[ok]), -1.0, 1.0)
         phase = b_r * atm.rayleigh.phase_function(nu) + b_m * atm.mie.phase_function(nu)[:, w]
