@@ -58,7 +58,9 @@ def get_optical_depth(t, r, mu, d):
     (draft tables; 0.15% standard). With this form: no rise over 3000 rays x 200 points (Earth, draft and
     standard), nor in Mars or the edge atmospheres of tests/test_stability.py, except 10 m scale heights, where
     interpolating across rows 240 m apart reads up to 1.5e-3 of optical depth that is not there (Bruneton's
-    form alike; docs/stability.md). The GLSL twin carries the descending branch only: every segment the shaders
+    form alike; docs/stability.md), and rays a fraction of a degree below the horizon from within a metre of the
+    ground, whose last step to the ground can rise by a few 1e-5 (the two readings are of grazing rays with
+    optical depths of 10-40 that differ by the segment's few 1e-3), within the tables' own error there. The GLSL twin carries the descending branch only: every segment the shaders
     read ends on the ground.
     """
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
