@@ -47,16 +47,22 @@ def check_finite_and_bounded(radiance, transmittance):
     assert np.all(np.isfinite(transmittance)) and np.all((transmittance >= 0) & (transmittance <= 1)), transmittance
 
 
-def transmittance_along(tables, alt, mu, n=50):
-    """T(x, x + d v) from ``tables`` at n distances d from 0 to where the ray (altitude ``alt``, view cosine
-    ``mu``) leaves the atmosphere or meets the ground: (n, W)."""
-    from planetviz.tables.lookup import get_transmittance
+def distances_along(tables, alt, mu, n=50):
+    """(r, d): the radius of a camera at altitude ``alt`` and n distances d along its view (cosine ``mu``) from 0
+    to where the ray leaves the atmosphere or meets the ground."""
     bottom, top = tables.bottom, tables.top
     r = bottom + alt
     ground = mu < 0 and r * r * (mu * mu - 1) + bottom * bottom >= 0
     disc = r * r * (mu * mu - 1) + (bottom if ground else top) ** 2
     end = -r * mu - np.sqrt(max(disc, 0)) if ground else -r * mu + np.sqrt(max(disc, 0))
-    return get_transmittance(tables, np.full(n, r), np.full(n, mu), np.linspace(0.0, max(end, 0.0), n))
+    return r, np.linspace(0.0, max(end, 0.0), n)
+
+
+def transmittance_along(tables, alt, mu, n=50):
+    """T(x, x + d v) from ``tables`` at the n distances d of :func:`distances_along`: (n, W)."""
+    from planetviz.tables.lookup import get_transmittance
+    r, d = distances_along(tables, alt, mu, n)
+    return get_transmittance(tables, np.full(n, r), np.full(n, mu), d)
 
 
 @pytest.fixture(scope="session")

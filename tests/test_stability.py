@@ -9,7 +9,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import check_finite_and_bounded, draft_earth_tables, transmittance_along
+from conftest import check_finite_and_bounded, distances_along, draft_earth_tables, transmittance_along
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -226,11 +226,7 @@ def test_transmittance_never_increases_along_a_ray(alt, mu):
     # points' errors against the exact T: a rise the tables' accuracy there does not explain fails.
     t = transmittance_along(TABLES, alt, mu)
     assert np.all((t >= 0) & (t <= 1))
-    r = TABLES.bottom + alt
-    ground = mu < 0 and r * r * (mu * mu - 1) + TABLES.bottom ** 2 >= 0
-    disc = r * r * (mu * mu - 1) + (TABLES.bottom if ground else TABLES.top) ** 2
-    end = max(-r * mu - np.sqrt(max(disc, 0)) if ground else -r * mu + np.sqrt(max(disc, 0)), 0.0)
-    d = np.linspace(0.0, end, len(t))
+    r, d = distances_along(TABLES, alt, mu, len(t))
     x = np.tile([0.0, 0.0, r], (len(d), 1))
     v = np.tile([np.sqrt(1.0 - mu * mu), 0.0, mu], (len(d), 1))
     error = np.abs(t - np.exp(-optical_depth(EARTH, x, v, d)))

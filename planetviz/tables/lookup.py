@@ -60,8 +60,8 @@ def get_optical_depth(t, r, mu, d):
     interpolating across rows 240 m apart reads up to 1.5e-3 of optical depth that is not there (Bruneton's
     form alike; docs/stability.md), and rays a fraction of a degree below the horizon from within a metre of the
     ground, whose last step to the ground can rise by a few 1e-5 (the two readings are of grazing rays with
-    optical depths of 10-40 that differ by the segment's few 1e-3), within the tables' own error there. The GLSL twin carries the descending branch only: every segment the shaders
-    read ends on the ground.
+    optical depths of 10-40 that differ by the segment's few 1e-3), within the tables' own error there. The GLSL
+    twin carries the descending branch only: every segment the shaders read ends on the ground.
     """
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
     r_d = np.sqrt(np.maximum(d * d + 2.0 * r * mu * d + r * r, 0.0))
