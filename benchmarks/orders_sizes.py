@@ -31,6 +31,7 @@ def variants(base):
 
 
 def row(values):
+    """One line: each ray's camera class and index, then its wavelengths' strings ``values[k]``."""
     return " ".join(f"{CAMERAS[k // 2][:5]}{k % 2}:" + ",".join(values[k]) for k in range(len(values)))
 
 
