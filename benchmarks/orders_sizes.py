@@ -10,15 +10,12 @@ tables_orders.py with at least as many atmospheres of that split first; otherwis
 import argparse
 from dataclasses import replace
 
-import numpy as np
-
-from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.multiple import first_two_orders
 from planetviz.tables.precompute import sizes_for
-from planetviz.validation import CAMERAS, LIGHT, random_atmosphere, rays
-from tables_orders import DATA
+from planetviz.validation import CAMERAS, LIGHT, random_atmosphere
+from tables_orders import reference_orders
 
 
 def variants(base):
@@ -42,10 +39,8 @@ def main():
     ap.add_argument("--paths", type=int, default=16384)
     args = ap.parse_args()
     atm = random_atmosphere(args.atmosphere)
-    batch = [rays(atm, args.atmosphere, camera, args.light, n=2) for camera in CAMERAS]
-    cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-    ref = stored_reference(DATA, f"random-{args.atmosphere}-{args.light}", atm, cams, views, suns,
-                           samples=args.paths, seed=args.atmosphere + 11, max_order=2)
+    cams, views, suns, ref = reference_orders(f"random-{args.atmosphere}", atm, args.atmosphere, args.light,
+                                              args.paths)
     for name, change in variants(sizes_for(atm, QUALITY["standard"])).items():
         level = replace(QUALITY["standard"], **change)
         sizes = sizes_for(atm, level)

@@ -41,6 +41,17 @@ from tables_suite import cases
 DATA = Path(__file__).resolve().parent / "data" / "orders"
 
 
+def reference_orders(name, atm, seed, light, paths):
+    """(cameras, views, suns, stored reference) of the suite's rays of one light class (2 per camera class) for
+    the atmosphere ``name``: the reference's first two orders (``max_order=2``, ``paths`` per ray and wavelength),
+    stored in DATA."""
+    batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
+    cams, views, suns = (np.concatenate(x) for x in zip(*batch))
+    ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=paths, seed=seed + 11,
+                           max_order=2)
+    return cams, views, suns, ref
+
+
 def compare(split, args, quadratures):
     """{quadrature: rows (atmosphere, camera class, light class, relative error (W,), relative noise (W,))}."""
     rows = {q: [] for q in quadratures}
@@ -53,10 +64,7 @@ def compare(split, args, quadratures):
         two_orders = {q: first_two_orders(tables, atm, sizes, q[1] or sizes.directions, quadrature=q[0])
                       for q in quadratures}
         for light in LIGHT:
-            batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
-            cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-            ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths,
-                                   seed=seed + 11, max_order=2)
+            cams, views, suns, ref = reference_orders(name, atm, seed, light, args.paths)
             for q in quadratures:
                 got, _ = sky_radiance(two_orders[q], atm, cams, views, suns)
                 for k in range(len(cams)):
