@@ -2,8 +2,8 @@
 wavelength against DISORT, with the 4D tables' axes changed one at a time.
 
     python benchmarks/lobe_sky_axes.py [--g 0.65] [--scale 1] [--suns 30 70] [--variants "" "multiple=(4,32,256,16)"]
-                                       [--mu-s-angle-share 0 0.4] [--order2]
-    python benchmarks/lobe_sky_axes.py --interpolation earth [--mu-s-angle-share 0 0.4]
+                                       [--mu-s-angle-share 0 0.4] [--view-zenith-share 0 0.5] [--order2]
+    python benchmarks/lobe_sky_axes.py --interpolation earth [--mu-s-angle-share 0 0.4] [--view-zenith-share 0 0.5]
 
 The atmosphere: random atmosphere 4 of the tuning split (``planetviz.validation.random_atmosphere``) at 550 nm
 only, without its absorbing layer, on a planet of 1e9 m (its 2,323 km of air then plane-parallel within 0.2%), its
@@ -14,14 +14,18 @@ benchmarks/tables_disort.py (its own error 0.3%, ../shared/notes/disort.md). Eac
 ``TableSizes`` fields changed from the standard level; ``--mu-s-angle-share c`` places the sun-zenith texels on
 (1 - c) x_B + c (theta_min - theta_s) / theta_min instead of Bruneton's x_B alone (``parameterization.
 x_mu_s_from_mu_s``; theta_min = 108 deg, the axis's lowest sun), for this run only: c = 0 is the tables as they
-are. ``--order2``: the tables' order 2 (``multiple.first_two_orders`` less their first) against a brute-force
+are; ``--view-zenith-share c`` places the view-zenith texels of both halves on (1 - c) x + c sqrt(x) instead of the
+distance coordinate x alone (``parameterization.distance_coordinate``: flat next to the zenith and the nadir, where
+the ray's length is H / cos(theta); sqrt(x) is linear in the angle there), every combination of the two shares
+run. ``--order2``: the tables' order 2 (``multiple.first_two_orders`` less their first) against a brute-force
 plane-parallel order 2 instead of DISORT (the first order's light from 4,001 levels, integrated over 192
 Gauss-Legendre cosines x 360 azimuths at 201 levels; the first order printed beside it shows the brute force's
-agreement with the tables where both are exact). ``--interpolation PRESET``: what each sun axis costs a preset
-instead, its standard tables against the same with 4 times the sun texels (single scattering 192, multiple
-scattering 128, irradiance 512; the interpolation is what differs) from 2 m and 10 km, views 30-91 deg from the
-zenith x 5 azimuths, suns from 60 deg up to 16 deg down, RMS and largest relative difference per class (day,
-twilight to -6 deg, deep twilight), radiances above 1e-6 of the finer tables' largest.
+agreement with the tables where both are exact). ``--interpolation PRESET``: what each pair of axes costs a
+preset instead, its standard tables against the same axes with 4 times the sun and view-zenith texels (single
+scattering 192 x 480, multiple scattering 128 x 256, irradiance 512; the interpolation is what differs) from 2 m,
+10 km and 40 km, views 5-95 deg from the zenith x 5 azimuths, suns from 60 deg up to 16 deg down, RMS and largest
+relative difference per class (day, twilight to -6 deg, deep twilight), radiances above 1e-6 of the finer tables'
+largest.
 """
 import argparse
 from dataclasses import replace
@@ -39,6 +43,7 @@ from planetviz.validation.single_scattering import single_scattering_only
 
 ZENITHS = (10.0, 20.0, 35.0, 55.0, 78.0)
 BRUNETON = (parameterization.x_mu_s_from_mu_s, parameterization.mu_s_from_x_mu_s)
+DISTANCE = (parameterization.distance_coordinate, parameterization.distance_from_coordinate)
 
 
 def twin(g, scale):
@@ -74,6 +79,35 @@ def use_mu_s_axis(c):
     chosen = BRUNETON if c == 0 else (x_mu_s, mu_s_from_x)
     parameterization.x_mu_s_from_mu_s, parameterization.mu_s_from_x_mu_s = chosen
     lookup.x_mu_s_from_mu_s = chosen[0]
+
+
+def use_view_axis(c):
+    """Place the view-zenith texels on (1 - c) x + c sqrt(x), x the distance coordinate, for this process."""
+    to_x, from_x = DISTANCE
+
+    def coordinate(d, d_min, d_max, k):
+        x = np.clip(to_x(d, d_min, d_max, k), 0.0, 1.0)
+        return (1.0 - c) * x + c * np.sqrt(x)
+
+    def distance(y, d_min, d_max, k):                      # (1 - c) s^2 + c s = y, s = sqrt(x)
+        y = np.clip(y, 0.0, 1.0)
+        s = (-c + np.sqrt(c * c + 4.0 * (1.0 - c) * y)) / (2.0 * (1.0 - c))
+        return from_x(s * s, d_min, d_max, k)
+
+    chosen = DISTANCE if c == 0 else (coordinate, distance)
+    parameterization.distance_coordinate, parameterization.distance_from_coordinate = chosen
+    lookup.distance_coordinate, lookup.distance_from_coordinate = chosen
+
+
+def axes(sun_shares, view_shares):
+    """Every (sun share, view share), each set for this process before it is yielded."""
+    for sun_share in sun_shares:
+        for view_share in view_shares:
+            use_mu_s_axis(sun_share)
+            use_view_axis(view_share)
+            yield f"sun share {sun_share:g}, view share {view_share:g}"
+    use_mu_s_axis(0.0)
+    use_view_axis(0.0)
 
 
 def brute_force_orders(atm, dirs, sun, levels=4001, step=20, n_cos=96, n_phi=360):
@@ -124,19 +158,19 @@ def brute_force_orders(atm, dirs, sun, levels=4001, step=20, n_cos=96, n_phi=360
     return np.array(first), np.array(second)
 
 
-def interpolation(preset, shares):
-    """Print, per sun axis, the standard tables' difference from the same with 4x the sun texels, per class."""
+def interpolation(preset, sun_shares, view_shares):
+    """Print, per pair of axes, the standard tables' difference from the same with 4x the sun and view texels."""
     atm = load_atmosphere(preset)
     standard = QUALITY["standard"]
-    fine = replace(standard, scattering=(8, 192, 120, 32), multiple=(4, 128, 64, 16), lobe_mu_s=128,
+    fine = replace(standard, scattering=(8, 192, 480, 32), multiple=(4, 128, 256, 16), lobe_mu_s=128,
                    irradiance=(512, 16))
-    zenith, azimuth = (np.radians(a).ravel() for a in np.meshgrid([30, 60, 80, 88, 91], [0, 45, 90, 135, 180]))
+    zenith, azimuth = (np.radians(a).ravel() for a in np.meshgrid([5, 15, 30, 60, 80, 88, 91, 95],
+                                                                  [0, 45, 90, 135, 180]))
     dirs = np.stack([np.sin(zenith) * np.cos(azimuth), np.sin(zenith) * np.sin(azimuth), np.cos(zenith)], -1)
-    dirs = np.concatenate([dirs, dirs])
+    dirs = np.concatenate([dirs] * 3)
     cams = np.zeros(dirs.shape)
-    cams[:, 2] = atm.bottom_radius_m + np.repeat([2.0, 10e3], len(zenith))
-    for share in shares:
-        use_mu_s_axis(share)
+    cams[:, 2] = atm.bottom_radius_m + np.repeat([2.0, 10e3, 40e3], len(zenith))
+    for name in axes(sun_shares, view_shares):
         coarse, finer = precompute(atm, standard), precompute(atm, fine)
         classes = {}
         for elevation in (60, 30, 10, 3, -1, -3, -5, -8, -12, -16):
@@ -144,12 +178,11 @@ def interpolation(preset, shares):
             sun = np.array([np.cos(e), 0.0, np.sin(e)])
             a, b = (sky_radiance(t, atm, cams, dirs, sun)[0] for t in (coarse, finer))
             lit = b > 1e-6 * b.max()
-            name = "day" if elevation > 0 else "twilight" if elevation >= -6 else "deep twilight"
-            classes.setdefault(name, []).append(a[lit] / b[lit] - 1.0)
-        print(f"{preset}, share {share:g}:", "; ".join(
+            kind = "day" if elevation > 0 else "twilight" if elevation >= -6 else "deep twilight"
+            classes.setdefault(kind, []).append(a[lit] / b[lit] - 1.0)
+        print(f"{preset}, {name}:", "; ".join(
             f"{k} RMS {np.sqrt(np.mean(np.concatenate(v) ** 2)):.4f}, largest {np.abs(np.concatenate(v)).max():.3f}"
             for k, v in classes.items()), flush=True)
-    use_mu_s_axis(0.0)
 
 
 def main():
@@ -159,11 +192,12 @@ def main():
     ap.add_argument("--suns", type=float, nargs="+", default=[30.0, 70.0], help="sun zenith angles [deg]")
     ap.add_argument("--variants", nargs="+", default=[""], help='TableSizes changes, e.g. "multiple=(4,32,256,16)"')
     ap.add_argument("--mu-s-angle-share", type=float, nargs="+", default=[0.0])
+    ap.add_argument("--view-zenith-share", type=float, nargs="+", default=[0.0])
     ap.add_argument("--order2", action="store_true")
     ap.add_argument("--interpolation", metavar="PRESET")
     args = ap.parse_args()
     if args.interpolation:
-        return interpolation(args.interpolation, args.mu_s_angle_share)
+        return interpolation(args.interpolation, args.mu_s_angle_share, args.view_zenith_share)
     atm = twin(args.g, args.scale)
     views, cams, dirs = ground_and_top_views(atm, zeniths_deg=ZENITHS)
     print(f"g {args.g}, vertical optical depth {atm.vertical_optical_depth()[0]:.2f}; ground views (zenith, angle "
@@ -178,8 +212,7 @@ def main():
             want = np.concatenate(brute_force_orders(atm, dirs[ground], sun))
         else:
             want = disort_radiance(atm, 0, np.cos(theta), views)
-        for share in args.mu_s_angle_share:
-            use_mu_s_axis(share)
+        for name in axes(args.mu_s_angle_share, args.view_zenith_share):
             for spec in args.variants:
                 level = replace(QUALITY["standard"], **eval(f"dict({spec})"))
                 tables = precompute(atm, level)
@@ -190,14 +223,13 @@ def main():
                     got = np.concatenate([one, two - one])
                     n = len(one)
                     rel = got / want - 1.0
-                    print(f"  share {share:g} {spec or 'standard'}: order 1", " ".join(f"{x:+.3f}" for x in rel[:n]),
+                    print(f"  {name}, {spec or 'standard'}: order 1", " ".join(f"{x:+.3f}" for x in rel[:n]),
                           "| order 2", " ".join(f"{x:+.3f}" for x in rel[n:]))
                     continue
                 got = sky_radiance(tables, atm, cams, dirs, sun)[0][:, 0]
                 rel = got / want - 1.0
-                print(f"  share {share:g} {spec or 'standard'}: ground", " ".join(f"{x:+.3f}" for x in rel[ground]),
+                print(f"  {name}, {spec or 'standard'}: ground", " ".join(f"{x:+.3f}" for x in rel[ground]),
                       f"| RMS ground and top {np.sqrt(np.mean(rel ** 2)):.4f}", flush=True)
-    use_mu_s_axis(0.0)
 
 
 if __name__ == "__main__":

@@ -580,7 +580,7 @@ def test_an_optically_thick_forward_lobed_sky_against_disort():
     # its own 0.3%, ../shared/notes/disort.md) at the ground looking up and at the top looking down, the views of
     # ground_and_top_views, the sun 30 and 70 deg from the zenith. A known miss (docs/benchmarks.md, random atmosphere
     # 4): the 4D tables' texels by day, the sun-zenith axis's at 0 and 45 deg of sun zenith and the view axis's at 0
-    # and 37.5 deg from the ground's zenith, blended across a light whose lobe is not the shape F. Its independent
+    # and 48.9 deg from the ground's zenith, blended across a light whose lobe is not the shape F. Its independent
     # ceiling: DISORT's own sky with the particles' phase made isotropic, which differs from the lobed one by 12.4%
     # RMS (p95 23%): tables that read further off than dropping the lobes altogether have regressed.
     from planetviz.validation import random_atmosphere
