@@ -48,13 +48,14 @@ DISTANCE = (parameterization.distance_coordinate, parameterization.distance_from
 
 def twin(g, scale):
     """Random atmosphere 4 at 550 nm without its absorbing layer, on 1e9 m, one lobe of g, coefficients x scale."""
-    d = random_atmosphere(4).to_dict()
+    atm = random_atmosphere(4)
+    d = atm.to_dict()
     d.update(name="random-4-twin", bottom_radius_m=1e9, top_radius_m=1e9 + d["top_radius_m"] - d["bottom_radius_m"],
              absorption=[], wavelengths_nm=[550.0], ground_albedo=[d["ground_albedo"][1]])
     d["rayleigh"] = dict(d["rayleigh"], scattering_m=[scale * d["rayleigh"]["scattering_m"][1]])
     d["mie"] = dict(d["mie"], scattering_m=[scale * d["mie"]["scattering_m"][1]],
                     extinction_m=[scale * d["mie"]["extinction_m"][1]], phase={"g1": [g], "g2": [0.0], "alpha": [1.0]})
-    return type(random_atmosphere(4)).from_dict(d)
+    return type(atm).from_dict(d)
 
 
 def use_mu_s_axis(c):
