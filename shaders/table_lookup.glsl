@@ -221,7 +221,8 @@ float distance_coordinate(float d, float d_min, float d_max, float k) {
 // Its inverse: the length of the ray at x ((1 - c) s^2 + c s = x, s = sqrt(y)).
 float distance_from_coordinate(float x, float d_min, float d_max, float k) {
     float c = VIEW_ANGLE_SHARE;
-    float s = (-c + sqrt(c * c + 4.0 * (1.0 - c) * clamp(x, 0.0, 1.0))) / (2.0 * (1.0 - c));
+    float y = clamp(x, 0.0, 1.0);
+    float s = 2.0 * y / (c + sqrt(c * c + 4.0 * (1.0 - c) * y));
     float low = d_min / (1.0 + k * d_min);
     float w = low + s * s * (d_max / (1.0 + k * d_max) - low);
     return w / (1.0 - k * w);

@@ -389,7 +389,7 @@ def distance_from_coordinate(x, d_min, d_max, k):
     """Inverse of :func:`distance_coordinate`: the length d of the ray at x ((1 - c) s^2 + c s = x, s = sqrt(y))."""
     c = VIEW_ANGLE_SHARE
     x = np.clip(x, 0.0, 1.0)
-    s = (-c + np.sqrt(c * c + 4.0 * (1.0 - c) * x)) / (2.0 * (1.0 - c))
+    s = 2.0 * x / (c + np.sqrt(c * c + 4.0 * (1.0 - c) * x))             # no cancellation at x -> 0
     low = _warped(d_min, k)
     w = low + s * s * (_warped(d_max, k) - low)
     return w / (1.0 - k * w)
