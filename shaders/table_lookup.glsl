@@ -208,23 +208,33 @@ float distance_warp(float a, bool ground) {
 // The angle's share in the view-zenith coordinate (parameterization.py's VIEW_ANGLE_SHARE).
 const float VIEW_ANGLE_SHARE = 0.5;
 
-// x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max: (1 - c) y + c sqrt(y),
-// c = VIEW_ANGLE_SHARE, y linear in d / (1 + k d) (parameterization.py's distance_coordinate); 0 where the half is
-// a single ray.
+// The offset e of the coordinate's angle-like part (parameterization.py's VIEW_ANGLE_OFFSET).
+const float VIEW_ANGLE_OFFSET = 3e-3;
+
+// x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
+// (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = VIEW_ANGLE_SHARE, e = VIEW_ANGLE_OFFSET,
+// y linear in d / (1 + k d) (parameterization.py's distance_coordinate); 0 where the half is a single ray.
 float distance_coordinate(float d, float d_min, float d_max, float k) {
     float low = d_min / (1.0 + k * d_min);
     float span = d_max / (1.0 + k * d_max) - low;
     float y = span > 0.0 ? clamp((d / (1.0 + k * d) - low) / span, 0.0, 1.0) : 0.0;
-    return (1.0 - VIEW_ANGLE_SHARE) * y + VIEW_ANGLE_SHARE * sqrt(y);
+    float e = VIEW_ANGLE_OFFSET;
+    return (1.0 - VIEW_ANGLE_SHARE) * y
+        + VIEW_ANGLE_SHARE * (sqrt(y + e) - sqrt(e)) / (sqrt(1.0 + e) - sqrt(e));
 }
 
-// Its inverse: the length of the ray at x ((1 - c) s^2 + c s = x, s = sqrt(y)).
+// Its inverse: the length of the ray at x (the positive root s = sqrt(y + e) of a quadratic).
 float distance_from_coordinate(float x, float d_min, float d_max, float k) {
     float c = VIEW_ANGLE_SHARE;
-    float y = clamp(x, 0.0, 1.0);
-    float s = 2.0 * y / (c + sqrt(c * c + 4.0 * (1.0 - c) * y));
+    float e = VIEW_ANGLE_OFFSET;
+    float big_d = sqrt(1.0 + e) - sqrt(e);
+    float a = 1.0 - c;
+    float b = c / big_d;
+    float q = a * e + c * sqrt(e) / big_d + clamp(x, 0.0, 1.0);
+    float s = 2.0 * q / (b + sqrt(b * b + 4.0 * a * q));
+    float y = clamp(s * s - e, 0.0, 1.0);
     float low = d_min / (1.0 + k * d_min);
-    float w = low + s * s * (d_max / (1.0 + k * d_max) - low);
+    float w = low + y * (d_max / (1.0 + k * d_max) - low);
     return w / (1.0 - k * w);
 }
 

@@ -369,29 +369,42 @@ def _warped(d, k):
 #: The share of the angle in the view-zenith coordinate: (1 - c) x + c sqrt(x), x linear in the ray's length
 #: (:func:`distance_coordinate`). The length, H / cos(theta) next to the zenith and the nadir, is flat there, and the
 #: sky's first texels seen from the ground lay at 0 and 48.9 deg from the zenith; sqrt(x) is linear in the angle
-#: there (0, 19.2, 34.6 deg at c = 1/2). Under a forward lobe in an optically thick atmosphere (random atmosphere
+#: there (with ``VIEW_ANGLE_OFFSET``, at 0, 28.5, 42.0 deg at c = 1/2). Under a forward lobe in an optically thick atmosphere (random atmosphere
 #: 4's plane-parallel twin) the sky within 35 deg of the zenith read up to +14% / -16% off DISORT with c = 0
 #: (benchmarks/lobe_sky_axes.py).
 VIEW_ANGLE_SHARE = 0.5
 
 
+#: The offset e of the angle-like part of the view-zenith coordinate, (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) -
+#: sqrt(e)): its slope at y = 0 is finite (1 / (2 sqrt(e)) over the normaliser), so rounding next to the zenith and
+#: the nadir is not amplified as sqrt(y)'s would be.
+VIEW_ANGLE_OFFSET = 3e-3
+
+
 def distance_coordinate(d, d_min, d_max, k):
-    """x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max: (1 - c) y + c sqrt(y),
-    c = ``VIEW_ANGLE_SHARE``, y linear in d / (1 + k d), k of :func:`distance_warp` (Bruneton's
+    """x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
+    (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = ``VIEW_ANGLE_SHARE``,
+    e = ``VIEW_ANGLE_OFFSET``, y linear in d / (1 + k d), k of :func:`distance_warp` (Bruneton's
     (d - d_min) / (d_max - d_min) for k = 0); 0 where the half is a single ray (d_max = d_min)."""
     low = _warped(d_min, k)
     span = _warped(d_max, k) - low
     y = np.clip(np.where(span > 0.0, (_warped(d, k) - low) / np.where(span > 0.0, span, 1.0), 0.0), 0.0, 1.0)
-    return (1.0 - VIEW_ANGLE_SHARE) * y + VIEW_ANGLE_SHARE * np.sqrt(y)
+    e = VIEW_ANGLE_OFFSET
+    return (1.0 - VIEW_ANGLE_SHARE) * y + VIEW_ANGLE_SHARE * (np.sqrt(y + e) - np.sqrt(e)) / (np.sqrt(1.0 + e) -
+                                                                                          np.sqrt(e))
 
 
 def distance_from_coordinate(x, d_min, d_max, k):
-    """Inverse of :func:`distance_coordinate`: the length d of the ray at x ((1 - c) s^2 + c s = x, s = sqrt(y))."""
-    c = VIEW_ANGLE_SHARE
+    """Inverse of :func:`distance_coordinate`: the length d of the ray at x; with s = sqrt(y + e), the quadratic
+    (1 - c) s^2 + (c / D) s - ((1 - c) e + c sqrt(e) / D + x) = 0, D = sqrt(1 + e) - sqrt(e)."""
+    c, e = VIEW_ANGLE_SHARE, VIEW_ANGLE_OFFSET
     x = np.clip(x, 0.0, 1.0)
-    s = 2.0 * x / (c + np.sqrt(c * c + 4.0 * (1.0 - c) * x))             # no cancellation at x -> 0
+    D = np.sqrt(1.0 + e) - np.sqrt(e)
+    a, b, q = 1.0 - c, c / D, (1.0 - c) * e + c * np.sqrt(e) / D + x
+    s = 2.0 * q / (b + np.sqrt(b * b + 4.0 * a * q))                       # the positive root, no cancellation
+    y = np.clip(s * s - e, 0.0, 1.0)
     low = _warped(d_min, k)
-    w = low + s * s * (_warped(d_max, k) - low)
+    w = low + y * (_warped(d_max, k) - low)
     return w / (1.0 - k * w)
 
 
