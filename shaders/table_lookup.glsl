@@ -209,7 +209,7 @@ float distance_warp(float a, bool ground) {
 const float VIEW_ANGLE_SHARE = 0.5;
 
 // The offset e of the coordinate's angle-like part (parameterization.py's VIEW_ANGLE_OFFSET).
-const float VIEW_ANGLE_OFFSET = 3e-3;
+const float VIEW_ANGLE_OFFSET = 1.5e-3;
 
 // x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
 // (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = VIEW_ANGLE_SHARE, e = VIEW_ANGLE_OFFSET,
