@@ -1,9 +1,10 @@
-"""Where the tables lose a forward-lobed, optically thick sky: random atmosphere 4's plane-parallel twin at one
-wavelength against DISORT, with the 4D tables' axes changed one at a time.
+"""A forward-lobed, optically thick sky and the 4D tables' axes: random atmosphere 4's plane-parallel twin at one
+wavelength against DISORT, the axes' placement of texels changed.
 
     python benchmarks/lobe_sky_axes.py [--g 0.65] [--scale 1] [--suns 30 70] [--variants "" "multiple=(4,32,256,16)"]
-                                       [--mu-s-angle-share 0 0.4] [--view-zenith-share 0 0.5] [--order2]
-    python benchmarks/lobe_sky_axes.py --interpolation earth [--mu-s-angle-share 0 0.4] [--view-zenith-share 0 0.5]
+                                       [--mu-s-angle-share 0 0.2] [--view-zenith-share 0 0.5]
+                                       [--view-angle-offset 0 1.5e-3] [--order2]
+    python benchmarks/lobe_sky_axes.py --interpolation earth [--mu-s-angle-share 0 0.2] [--view-zenith-share 0 0.5]
 
 The atmosphere: random atmosphere 4 of the tuning split (``planetviz.validation.random_atmosphere``) at 550 nm
 only, without its absorbing layer, on a planet of 1e9 m (its 2,323 km of air then plane-parallel within 0.2%), its
@@ -11,12 +12,10 @@ particles given one Henyey-Greenstein lobe of ``--g`` and their and the molecule
 ``--scale`` (vertical optical depth 2.8 at 1). Rays: at the ground looking up (printed) and at the top looking
 down (in the RMS), view zenith 10, 20, 35, 55 and 78 deg x azimuth 0, 90 and 180 deg from the sun's. DISORT as in
 benchmarks/tables_disort.py (its own error 0.3%, ../shared/notes/disort.md). Each ``--variants`` entry is a set of
-``TableSizes`` fields changed from the standard level; ``--mu-s-angle-share c`` places the sun-zenith texels on
-(1 - c) x_B + c (theta_min - theta_s) / theta_min instead of Bruneton's x_B alone (``parameterization.
-x_mu_s_from_mu_s``; theta_min = 108 deg, the axis's lowest sun), for this run only: c = 0 is the tables as they
-are; ``--view-zenith-share c`` places the view-zenith texels of both halves on (1 - c) x + c sqrt(x) instead of the
-distance coordinate x alone (``parameterization.distance_coordinate``: flat next to the zenith and the nadir, where
-the ray's length is H / cos(theta); sqrt(x) is linear in the angle there), every combination of the two shares
+``TableSizes`` fields changed from the standard level; ``--mu-s-angle-share``, ``--view-zenith-share`` and
+``--view-angle-offset`` set ``parameterization.SUN_ANGLE_SHARE`` (the sun-zenith coordinate's share of the angle;
+0 is Bruneton's), ``VIEW_ANGLE_SHARE`` and ``VIEW_ANGLE_OFFSET`` (the view-zenith coordinate's angle-like part;
+share 0 is the distance coordinate alone) for this run, the tables' values by default, every combination
 run. ``--order2``: the tables' order 2 (``multiple.first_two_orders`` less their first) against a brute-force
 plane-parallel order 2 instead of DISORT (the first order's light from 4,001 levels, integrated over 192
 Gauss-Legendre cosines x 360 azimuths at 201 levels; the first order printed beside it shows the brute force's
@@ -33,7 +32,7 @@ from dataclasses import replace
 import numpy as np
 
 from planetviz import load_atmosphere
-from planetviz.tables import QUALITY, lookup, parameterization, precompute
+from planetviz.tables import QUALITY, parameterization, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.multiple import first_two_orders
 from planetviz.tables.precompute import sizes_for
@@ -42,10 +41,6 @@ from planetviz.validation.disort import disort_radiance, ground_and_top_views
 from planetviz.validation.single_scattering import single_scattering_only
 
 ZENITHS = (10.0, 20.0, 35.0, 55.0, 78.0)
-BRUNETON = (parameterization.x_mu_s_from_mu_s, parameterization.mu_s_from_x_mu_s)
-DISTANCE = (parameterization.distance_coordinate, parameterization.distance_from_coordinate)
-
-
 def twin(g, scale):
     """Random atmosphere 4 at 550 nm without its absorbing layer, on 1e9 m, one lobe of g, coefficients x scale."""
     atm = random_atmosphere(4)
@@ -58,57 +53,17 @@ def twin(g, scale):
     return type(atm).from_dict(d)
 
 
-def use_mu_s_axis(c):
-    """Place the sun-zenith texels on (1 - c) x_B + c (theta_min - theta_s) / theta_min for this process."""
-    x_b, _ = BRUNETON
-    theta_min = np.arccos(parameterization.MU_S_MIN)
-
-    def x_mu_s(mu_s, bottom, top, clamp=True):
-        x = (1.0 - c) * x_b(mu_s, bottom, top, clamp=False) + \
-            c * (theta_min - np.arccos(np.clip(mu_s, -1.0, 1.0))) / theta_min
-        return np.maximum(x, 0.0) if clamp else x
-
-    def mu_s_from_x(x, bottom, top):                       # bisection: x rises with mu_s
-        x = np.asarray(x, dtype=float)
-        lo, hi = np.full(x.shape, -1.0), np.full(x.shape, 1.0)
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            below = x_mu_s(mid, bottom, top, clamp=False) < x
-            lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-        return parameterization.clamp_cosine(0.5 * (lo + hi))
-
-    chosen = BRUNETON if c == 0 else (x_mu_s, mu_s_from_x)
-    parameterization.x_mu_s_from_mu_s, parameterization.mu_s_from_x_mu_s = chosen
-    lookup.x_mu_s_from_mu_s = chosen[0]
-
-
-def use_view_axis(c):
-    """Place the view-zenith texels on (1 - c) x + c sqrt(x), x the distance coordinate, for this process."""
-    to_x, from_x = DISTANCE
-
-    def coordinate(d, d_min, d_max, k):
-        x = np.clip(to_x(d, d_min, d_max, k), 0.0, 1.0)
-        return (1.0 - c) * x + c * np.sqrt(x)
-
-    def distance(y, d_min, d_max, k):                      # (1 - c) s^2 + c s = y, s = sqrt(x)
-        y = np.clip(y, 0.0, 1.0)
-        s = (-c + np.sqrt(c * c + 4.0 * (1.0 - c) * y)) / (2.0 * (1.0 - c))
-        return from_x(s * s, d_min, d_max, k)
-
-    chosen = DISTANCE if c == 0 else (coordinate, distance)
-    parameterization.distance_coordinate, parameterization.distance_from_coordinate = chosen
-    lookup.distance_coordinate, lookup.distance_from_coordinate = chosen
-
-
-def axes(sun_shares, view_shares):
-    """Every (sun share, view share), each set for this process before it is yielded."""
+def axes(sun_shares, view_shares, view_offsets):
+    """Every (sun share, view share, view offset), set for this process (``parameterization.SUN_ANGLE_SHARE``,
+    ``VIEW_ANGLE_SHARE``, ``VIEW_ANGLE_OFFSET``; the tables are computed without a cache) before it is yielded."""
+    kept = parameterization.SUN_ANGLE_SHARE, parameterization.VIEW_ANGLE_SHARE, parameterization.VIEW_ANGLE_OFFSET
     for sun_share in sun_shares:
         for view_share in view_shares:
-            use_mu_s_axis(sun_share)
-            use_view_axis(view_share)
-            yield f"sun share {sun_share:g}, view share {view_share:g}"
-    use_mu_s_axis(0.0)
-    use_view_axis(0.0)
+            for offset in view_offsets:
+                parameterization.SUN_ANGLE_SHARE = sun_share
+                parameterization.VIEW_ANGLE_SHARE, parameterization.VIEW_ANGLE_OFFSET = view_share, offset
+                yield f"sun share {sun_share:g}, view share {view_share:g}, offset {offset:g}"
+    parameterization.SUN_ANGLE_SHARE, parameterization.VIEW_ANGLE_SHARE, parameterization.VIEW_ANGLE_OFFSET = kept
 
 
 def brute_force_orders(atm, dirs, sun, levels=4001, step=20, n_cos=96, n_phi=360):
@@ -159,7 +114,7 @@ def brute_force_orders(atm, dirs, sun, levels=4001, step=20, n_cos=96, n_phi=360
     return np.array(first), np.array(second)
 
 
-def interpolation(preset, sun_shares, view_shares):
+def interpolation(preset, sun_shares, view_shares, view_offsets):
     """Print, per pair of axes, the standard tables' difference from the same with 4x the sun and view texels."""
     atm = load_atmosphere(preset)
     standard = QUALITY["standard"]
@@ -171,7 +126,7 @@ def interpolation(preset, sun_shares, view_shares):
     dirs = np.concatenate([dirs] * 3)
     cams = np.zeros(dirs.shape)
     cams[:, 2] = atm.bottom_radius_m + np.repeat([2.0, 10e3, 40e3], len(zenith))
-    for name in axes(sun_shares, view_shares):
+    for name in axes(sun_shares, view_shares, view_offsets):
         coarse, finer = precompute(atm, standard), precompute(atm, fine)
         classes = {}
         for elevation in (60, 30, 10, 3, -1, -3, -5, -8, -12, -16):
@@ -192,13 +147,15 @@ def main():
     ap.add_argument("--scale", type=float, default=1.0)
     ap.add_argument("--suns", type=float, nargs="+", default=[30.0, 70.0], help="sun zenith angles [deg]")
     ap.add_argument("--variants", nargs="+", default=[""], help='TableSizes changes, e.g. "multiple=(4,32,256,16)"')
-    ap.add_argument("--mu-s-angle-share", type=float, nargs="+", default=[0.0])
-    ap.add_argument("--view-zenith-share", type=float, nargs="+", default=[0.0])
+    ap.add_argument("--mu-s-angle-share", type=float, nargs="+", default=[parameterization.SUN_ANGLE_SHARE])
+    ap.add_argument("--view-zenith-share", type=float, nargs="+", default=[parameterization.VIEW_ANGLE_SHARE])
+    ap.add_argument("--view-angle-offset", type=float, nargs="+", default=[parameterization.VIEW_ANGLE_OFFSET])
     ap.add_argument("--order2", action="store_true")
     ap.add_argument("--interpolation", metavar="PRESET")
     args = ap.parse_args()
     if args.interpolation:
-        return interpolation(args.interpolation, args.mu_s_angle_share, args.view_zenith_share)
+        return interpolation(args.interpolation, args.mu_s_angle_share, args.view_zenith_share,
+                             args.view_angle_offset)
     atm = twin(args.g, args.scale)
     views, cams, dirs = ground_and_top_views(atm, zeniths_deg=ZENITHS)
     print(f"g {args.g}, vertical optical depth {atm.vertical_optical_depth()[0]:.2f}; ground views (zenith, angle "
@@ -213,7 +170,7 @@ def main():
             want = np.concatenate(brute_force_orders(atm, dirs[ground], sun))
         else:
             want = disort_radiance(atm, 0, np.cos(theta), views)
-        for name in axes(args.mu_s_angle_share, args.view_zenith_share):
+        for name in axes(args.mu_s_angle_share, args.view_zenith_share, args.view_angle_offset):
             for spec in args.variants:
                 level = replace(QUALITY["standard"], **eval(f"dict({spec})"))
                 tables = precompute(atm, level)

@@ -170,8 +170,12 @@ float limited_bottom_radius() {
     return min(bottom_radius, (top_radius - bottom_radius) * (RATIO_LIMIT * RATIO_LIMIT - 1.0) / 2.0);
 }
 
-// Bruneton's sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation), on the
-// geometry of limited_bottom_radius.
+// The sun's zenith angle's share in the sun-zenith coordinate (parameterization.py's SUN_ANGLE_SHARE).
+const float SUN_ANGLE_SHARE = 0.2;
+
+// The sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation): Bruneton's on the
+// geometry of limited_bottom_radius, (1 - SUN_ANGLE_SHARE) of it, plus SUN_ANGLE_SHARE of the sun's zenith angle
+// from its largest, acos(mu_s_min) (parameterization.py's x_mu_s_from_mu_s).
 float x_mu_s_from_mu_s(float mu_s) {
     float thickness = top_radius - bottom_radius;
     float r = limited_bottom_radius();
@@ -182,7 +186,9 @@ float x_mu_s_from_mu_s(float mu_s) {
     float disc_min = r * r * (mu_s_min * mu_s_min - 1.0) + top * top;
     float a = (max(-r * mu_s + safe_sqrt(disc), 0.0) - d_min) / (d_max - d_min);
     float big_a = (max(-r * mu_s_min + safe_sqrt(disc_min), 0.0) - d_min) / (d_max - d_min);
-    return (1.0 - a / big_a) / (1.0 + a);
+    float theta_max = acos(mu_s_min);
+    return (1.0 - SUN_ANGLE_SHARE) * (1.0 - a / big_a) / (1.0 + a)
+        + SUN_ANGLE_SHARE * (theta_max - acos(clamp(mu_s, -1.0, 1.0))) / theta_max;
 }
 
 // k [1/m] of the view-zenith axis's distance coordinate for a camera at altitude a, in the ground half or the sky
@@ -199,18 +205,36 @@ float distance_warp(float a, bool ground) {
     return max(1.0 / (rho_small + sqrt(thickness * (2.0 * small + thickness))) - 1.0 / (rho + h), 0.0);
 }
 
-// x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max: linear in d / (1 + k d)
-// (parameterization.py's distance_coordinate); 0 where the half is a single ray.
+// The angle's share in the view-zenith coordinate (parameterization.py's VIEW_ANGLE_SHARE).
+const float VIEW_ANGLE_SHARE = 0.5;
+
+// The offset e of the coordinate's angle-like part (parameterization.py's VIEW_ANGLE_OFFSET).
+const float VIEW_ANGLE_OFFSET = 1.5e-3;
+
+// x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
+// (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = VIEW_ANGLE_SHARE, e = VIEW_ANGLE_OFFSET,
+// y linear in d / (1 + k d) (parameterization.py's distance_coordinate); 0 where the half is a single ray.
 float distance_coordinate(float d, float d_min, float d_max, float k) {
     float low = d_min / (1.0 + k * d_min);
     float span = d_max / (1.0 + k * d_max) - low;
-    return span > 0.0 ? (d / (1.0 + k * d) - low) / span : 0.0;
+    float y = span > 0.0 ? clamp((d / (1.0 + k * d) - low) / span, 0.0, 1.0) : 0.0;
+    float e = VIEW_ANGLE_OFFSET;
+    return (1.0 - VIEW_ANGLE_SHARE) * y
+        + VIEW_ANGLE_SHARE * (sqrt(y + e) - sqrt(e)) / (sqrt(1.0 + e) - sqrt(e));
 }
 
-// Its inverse: the length of the ray at x.
+// Its inverse: the length of the ray at x (the positive root s = sqrt(y + e) of a quadratic).
 float distance_from_coordinate(float x, float d_min, float d_max, float k) {
+    float c = VIEW_ANGLE_SHARE;
+    float e = VIEW_ANGLE_OFFSET;
+    float big_d = sqrt(1.0 + e) - sqrt(e);
+    float a = 1.0 - c;
+    float b = c / big_d;
+    float q = a * e + c * sqrt(e) / big_d + clamp(x, 0.0, 1.0);
+    float s = 2.0 * q / (b + sqrt(b * b + 4.0 * a * q));
+    float y = clamp(s * s - e, 0.0, 1.0);
     float low = d_min / (1.0 + k * d_min);
-    float w = low + x * (d_max / (1.0 + k * d_max) - low);
+    float w = low + y * (d_max / (1.0 + k * d_max) - low);
     return w / (1.0 - k * w);
 }
 

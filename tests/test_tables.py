@@ -578,11 +578,11 @@ def test_an_optically_thick_forward_lobed_sky_against_disort():
     # on a planet of 1e9 m: optical depth 1.6 / 2.8 / 4.9 at 680 / 550 / 440 nm, particles that scatter backward at
     # 680 nm and forward (g 0.56-0.65) at the others, ground albedo 0.74-0.94. DISORT (64 streams, exact here within
     # its own 0.3%, ../shared/notes/disort.md) at the ground looking up and at the top looking down, the views of
-    # ground_and_top_views, the sun 30 and 70 deg from the zenith. A known miss (docs/benchmarks.md, random atmosphere
-    # 4): the 4D tables' texels by day, the sun-zenith axis's at 0 and 45 deg of sun zenith and the view axis's at 0
-    # and 48.9 deg from the ground's zenith, blended across a light whose lobe is not the shape F. Its independent
-    # ceiling: DISORT's own sky with the particles' phase made isotropic, which differs from the lobed one by 12.4%
-    # RMS (p95 23%): tables that read further off than dropping the lobes altogether have regressed.
+    # ground_and_top_views, the sun 30 and 70 deg from the zenith. The RMS is a known miss (docs/benchmarks.md, random
+    # atmosphere 4; docs/tables.md, "Known defects"): the sky 10-20 deg from the zenith, blended between the view
+    # axis's zenith texel and its next at 26.4 deg (VIEW_ANGLE_OFFSET). Its independent ceiling: DISORT's own sky with
+    # the particles' phase made isotropic, which differs from the lobed one by 12.4% RMS (p95 23%): tables that read
+    # further off than dropping the lobes altogether have regressed.
     from planetviz.validation import random_atmosphere
     from conftest import hold_to_targets
     atm = _without_absorbing_layers(random_atmosphere(4), 1e9)
@@ -592,7 +592,7 @@ def test_an_optically_thick_forward_lobed_sky_against_disort():
     errors, lobe = (np.abs(e) for e in _against_disort(atm, isotropic))
     figures = {"rms": np.sqrt(np.mean(errors ** 2)), "p95": np.percentile(errors, 95)}
     ceilings = {"rms": np.sqrt(np.mean(lobe ** 2)), "p95": np.percentile(lobe, 95)}
-    hold_to_targets(figures, {"rms": 0.01, "p95": 0.03}, ["rms", "p95"], "docs/benchmarks.md (random atmosphere 4)",
+    hold_to_targets(figures, {"rms": 0.01, "p95": 0.03}, ["rms"], "docs/benchmarks.md (random atmosphere 4)",
                     ceilings)
 
 

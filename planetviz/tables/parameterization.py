@@ -366,25 +366,78 @@ def _warped(d, k):
     return d / (1.0 + k * d)
 
 
+#: The share of the angle in the view-zenith coordinate: (1 - c) y + c s(y), y linear in the ray's length
+#: (:func:`distance_coordinate`), s(y) a square root (``VIEW_ANGLE_OFFSET``). The length, H / cos(theta) next to the
+#: zenith and the nadir, is flat there: with c = 0 the sky's first texels seen from the ground lie at 0 and 48.9 deg
+#: from the zenith, with c = 1/2 at 0, 26.4, 40.3 deg (random atmosphere 4's plane-parallel twin, 64 mu texels).
+#: Under a forward lobe in an optically thick atmosphere (that twin) the sky within 35 deg of the zenith read up to
+#: +14% / -16% off DISORT with c = 0 (benchmarks/lobe_sky_axes.py).
+VIEW_ANGLE_SHARE = 0.5
+
+
+#: The offset e of the angle-like part of the view-zenith coordinate, s(y) = (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e)
+#: - sqrt(e)): sqrt(y) alone is linear in the angle next to the zenith and the nadir but its slope there is
+#: infinite, and a camera that enters at the top moves its rays' coordinates by 0.013 texel over 1 m
+#: (tests/test_tables.py bounds 1e-3); e = 1.5e-3 keeps that under the bound and puts the sky's first texels at
+#: 26.4 deg rather than sqrt's 19.2 (random atmosphere 4's twin: 1.42% / 1.21% RMS off DISORT with the sun 30 / 70
+#: deg from the zenith, against sqrt's 0.89% / 0.56%; benchmarks/lobe_sky_axes.py).
+VIEW_ANGLE_OFFSET = 1.5e-3
+
+
 def distance_coordinate(d, d_min, d_max, k):
-    """x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max: linear in
-    d / (1 + k d), k of :func:`distance_warp` (Bruneton's (d - d_min) / (d_max - d_min) for k = 0); 0 where the
-    half is a single ray (d_max = d_min)."""
+    """x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
+    (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = ``VIEW_ANGLE_SHARE``,
+    e = ``VIEW_ANGLE_OFFSET``, y linear in d / (1 + k d), k of :func:`distance_warp` (Bruneton's
+    (d - d_min) / (d_max - d_min) for k = 0); 0 where the half is a single ray (d_max = d_min)."""
     low = _warped(d_min, k)
     span = _warped(d_max, k) - low
-    return np.where(span > 0.0, (_warped(d, k) - low) / np.where(span > 0.0, span, 1.0), 0.0)
+    y = np.clip(np.where(span > 0.0, (_warped(d, k) - low) / np.where(span > 0.0, span, 1.0), 0.0), 0.0, 1.0)
+    e = VIEW_ANGLE_OFFSET
+    return (1.0 - VIEW_ANGLE_SHARE) * y + VIEW_ANGLE_SHARE * (np.sqrt(y + e) - np.sqrt(e)) / (np.sqrt(1.0 + e) -
+                                                                                          np.sqrt(e))
 
 
 def distance_from_coordinate(x, d_min, d_max, k):
-    """Inverse of :func:`distance_coordinate`: the length d of the ray at x."""
+    """Inverse of :func:`distance_coordinate`: the length d of the ray at x; with s = sqrt(y + e), the quadratic
+    (1 - c) s^2 + (c / D) s - ((1 - c) e + c sqrt(e) / D + x) = 0, D = sqrt(1 + e) - sqrt(e)."""
+    c, e = VIEW_ANGLE_SHARE, VIEW_ANGLE_OFFSET
+    x = np.clip(x, 0.0, 1.0)
+    D = np.sqrt(1.0 + e) - np.sqrt(e)
+    a, b, q = 1.0 - c, c / D, (1.0 - c) * e + c * np.sqrt(e) / D + x
+    s = 2.0 * q / (b + np.sqrt(b * b + 4.0 * a * q))                       # the positive root, no cancellation
+    y = np.clip(s * s - e, 0.0, 1.0)
     low = _warped(d_min, k)
-    w = low + x * (_warped(d_max, k) - low)
+    w = low + y * (_warped(d_max, k) - low)
     return w / (1.0 - k * w)
 
 
+#: The share of the sun's zenith angle in the sun-zenith coordinate (:func:`x_mu_s_from_mu_s`): Bruneton's mapping
+#: alone puts the multiple-scattering tables' 32 texels at 0, 45.4, 57.9 ... deg of sun zenith, and a sun 30 deg
+#: from the zenith was blended between the zenith and 45 deg (random atmosphere 4's plane-parallel twin, views 55-78
+#: deg from the zenith toward the sun +9% to +14% off DISORT; benchmarks/lobe_sky_axes.py); with 0.2, at 0, 16.0,
+#: 30.7 ... deg. 0.4 took texels from twilight (the Earth's interpolation error there 1.3% -> 1.9% RMS).
+SUN_ANGLE_SHARE = 0.2
+#: The sun's largest zenith angle the tables cover [rad].
+THETA_S_MAX = float(np.arccos(MU_S_MIN))
+
+
+def _bruneton_x_mu_s(mu_s, bottom, top):
+    """Bruneton's non-linear sun-zenith coordinate (1 at the zenith, 0 at mu_s_min, below 0 past it), on the
+    geometry of :func:`limited_geometry`."""
+    bottom, top = limited_geometry(bottom, top)
+    h = np.sqrt(top * top - bottom * bottom)
+    d = distance_to_top_atmosphere_boundary(bottom, mu_s, top)
+    d_min, d_max = top - bottom, h
+    a = (d - d_min) / (d_max - d_min)
+    big_d = distance_to_top_atmosphere_boundary(bottom, MU_S_MIN, top)
+    big_a = (big_d - d_min) / (d_max - d_min)
+    return (1.0 - a / big_a) / (1.0 + a)
+
+
 def x_mu_s_from_mu_s(mu_s, bottom, top, clamp=True):
-    """Bruneton's non-linear sun-zenith coordinate in [0, 1] (0 at mu_s_min, 1 at the zenith), on the geometry of
-    :func:`limited_geometry`.
+    """The sun-zenith coordinate in [0, 1] (0 at mu_s_min, 1 at the zenith): (1 - c) x_B + c (theta_max - theta_s) /
+    theta_max, c = ``SUN_ANGLE_SHARE``, x_B Bruneton's non-linear coordinate on the geometry of
+    :func:`limited_geometry`, theta_max = ``THETA_S_MAX``.
 
     Bruneton's mapping depends on the planet only through H / (R_t - R_b), which grows as sqrt(R_b / (R_t - R_b)):
     the larger it is, the more of the axis goes to the sun near and below the horizon. Under 60 km of air on a
@@ -394,28 +447,21 @@ def x_mu_s_from_mu_s(mu_s, bottom, top, clamp=True):
 
     ``clamp=False`` lets it go negative below mu_s_min, for ``lookup.get_scattering``'s extrapolation (a
     texture coordinate below the first texel centre would read the neighbouring nu slice)."""
-    bottom, top = limited_geometry(bottom, top)
-    h = np.sqrt(top * top - bottom * bottom)
-    d = distance_to_top_atmosphere_boundary(bottom, mu_s, top)
-    d_min, d_max = top - bottom, h
-    a = (d - d_min) / (d_max - d_min)
-    big_d = distance_to_top_atmosphere_boundary(bottom, MU_S_MIN, top)
-    big_a = (big_d - d_min) / (d_max - d_min)
-    x = (1.0 - a / big_a) / (1.0 + a)
+    theta_s = np.arccos(np.clip(mu_s, -1.0, 1.0))
+    x = (1.0 - SUN_ANGLE_SHARE) * _bruneton_x_mu_s(mu_s, bottom, top) + \
+        SUN_ANGLE_SHARE * (THETA_S_MAX - theta_s) / THETA_S_MAX
     return np.maximum(x, 0.0) if clamp else x
 
 
 def mu_s_from_x_mu_s(x, bottom, top):
-    """Inverse of :func:`x_mu_s_from_mu_s`."""
-    bottom, top = limited_geometry(bottom, top)
-    h = np.sqrt(top * top - bottom * bottom)
-    d_min, d_max = top - bottom, h
-    big_d = distance_to_top_atmosphere_boundary(bottom, MU_S_MIN, top)
-    big_a = (big_d - d_min) / (d_max - d_min)
-    a = (big_a - x * big_a) / (1.0 + x * big_a)
-    d = d_min + np.minimum(a, big_a) * (d_max - d_min)
-    mu_s = np.where(d == 0.0, 1.0, (h * h - d * d) / np.where(d == 0.0, 1.0, 2.0 * bottom * d))
-    return clamp_cosine(mu_s)
+    """Inverse of :func:`x_mu_s_from_mu_s` (rising in mu_s: 64 halvings of [-1, 1] reach float64's resolution)."""
+    x = np.asarray(x, dtype=float)
+    lo, hi = np.full(x.shape, -1.0), np.full(x.shape, 1.0)
+    for _ in range(64):
+        mid = 0.5 * (lo + hi)
+        below = x_mu_s_from_mu_s(mid, bottom, top, clamp=False) < x
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    return clamp_cosine(0.5 * (lo + hi))
 
 
 def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size, axis=None):

@@ -36,7 +36,7 @@ from .multiple import multiple_scattering
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, altitude, integration_grid, is_optically_thick, ray_nodes,
                     scattering_share, texel_centres)
 from .parameterization import distance_to_top_atmosphere_boundary, r_axis, r_mu_from_transmittance_uv
-from .validated import FORWARD_LOBE_G, strongest_forward_lobe
+from .validated import strongest_forward_lobe
 
 
 @dataclass(frozen=True)
@@ -98,6 +98,11 @@ class Tables:
 
 #: An optically thick atmosphere's multiple-scattering table has at least this many r rows (``sizes_for``).
 THICK_MULTIPLE_ROWS = 16
+#: Under a forward lobe above this g, where the particles hold most of the scattering, the multiple-scattering tables
+#: have the ``lobe_nu`` and ``lobe_mu_s`` texels (``sizes_for``): random atmosphere 4's plane-parallel twin (one lobe
+#: of g = 0.65, optical depth 2.8) read 2.8% RMS off DISORT with the sun 70 deg from the zenith at 4 nu texels,
+#: 0.58% at 16 (benchmarks/lobe_sky_axes.py).
+LOBE_TEXELS_G = 0.6
 
 
 def sizes_for(atm, sizes: TableSizes) -> TableSizes:
@@ -107,7 +112,7 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
        (the standard and high levels have as many; the draft level 8). With 8, the 10-bar CO2 planet's 12 test rays
        read 2.2% RMS off the reference at standard (up to 5.4% low at 440 nm, where the light changes with the
        altitude's optical depth); with 16, 1.5% (tests/test_tables.py's rays, the reference's noise 0.9%);
-    2. under a dominant forward lobe (``validated.strongest_forward_lobe`` above ``validated.FORWARD_LOBE_G``) the
+    2. under a forward lobe (``validated.strongest_forward_lobe`` above ``LOBE_TEXELS_G``) the
        multiple-scattering tables have at least ``sizes.lobe_nu`` nu texels: their particles' part is stored over
        the twice-scattered lobe F(nu), which varies a hundredfold across 4 texels, and the diffuse light seen
        along long rays varies as 1 / F between them; and at least ``sizes.lobe_mu_s`` mu_s texels: with 32, Mars's
@@ -117,7 +122,7 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     n_nu, n_mu_s, n_mu, n_r = sizes.multiple
     if is_optically_thick(atm):
         n_r = max(n_r, THICK_MULTIPLE_ROWS)
-    if strongest_forward_lobe(atm) > FORWARD_LOBE_G:
+    if strongest_forward_lobe(atm) > LOBE_TEXELS_G:
         n_nu, n_mu_s = max(n_nu, sizes.lobe_nu), max(n_mu_s, sizes.lobe_mu_s)
     return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r))
 
