@@ -41,6 +41,8 @@ from planetviz.validation.disort import disort_radiance, ground_and_top_views
 from planetviz.validation.single_scattering import single_scattering_only
 
 ZENITHS = (10.0, 20.0, 35.0, 55.0, 78.0)
+
+
 def twin(g, scale):
     """Random atmosphere 4 at 550 nm without its absorbing layer, on 1e9 m, one lobe of g, coefficients x scale."""
     atm = random_atmosphere(4)
