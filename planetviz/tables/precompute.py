@@ -49,7 +49,7 @@ class TableSizes:
     transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
     scattering_samples: int = 16              # per side of the closest approach, single scattering
     multiple: tuple = (4, 32, 64, 16)         # (n_nu, n_mu_s, n_mu, n_r) of the multiple-scattering table
-    lobe_nu: int = 16                         # its n_nu at least, under a dominant forward lobe (``sizes_for``)
+    lobe_nu: int = 16                         # its n_nu at least, under a forward lobe (``sizes_for``)
     lobe_mu_s: int = 48                       # and its n_mu_s at least
     multiple_samples: int = 8                 # per side, integrating the scattering density
     directions: tuple = (16, 16)              # (cos theta, azimuth over [0, pi]) quadrature of J
@@ -101,7 +101,7 @@ THICK_MULTIPLE_ROWS = 16
 #: Under a forward lobe above this g, where the particles hold most of the scattering, the multiple-scattering tables
 #: have the ``lobe_nu`` and ``lobe_mu_s`` texels (``sizes_for``): random atmosphere 4's plane-parallel twin (one lobe
 #: of g = 0.65, optical depth 2.8) read 2.8% RMS off DISORT with the sun 70 deg from the zenith at 4 nu texels,
-#: 0.58% at 16 (benchmarks/lobe_sky_axes.py).
+#: 0.58% at 16 (the view coordinate's offset at 0; benchmarks/lobe_sky_axes.py).
 LOBE_TEXELS_G = 0.6
 
 
