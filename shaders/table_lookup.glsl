@@ -211,22 +211,32 @@ const float VIEW_ANGLE_SHARE = 0.5;
 // The offset e of the coordinate's angle-like part (parameterization.py's VIEW_ANGLE_OFFSET).
 const float VIEW_ANGLE_OFFSET = 1.5e-3;
 
+// The sky half's offset at the ground and the exponent of its rise to VIEW_ANGLE_OFFSET at the top
+// (parameterization.py's SKY_ANGLE_OFFSET_GROUND and SKY_ANGLE_OFFSET_EXPONENT).
+const float SKY_ANGLE_OFFSET_GROUND = 0.0;
+const float SKY_ANGLE_OFFSET_EXPONENT = 1.0;
+
+// e of the sky half's distance_coordinate for a camera at altitude a (parameterization.py's sky_angle_offset).
+float sky_angle_offset(float a) {
+    float f = pow(clamp(a / (top_radius - bottom_radius), 0.0, 1.0), SKY_ANGLE_OFFSET_EXPONENT);
+    return SKY_ANGLE_OFFSET_GROUND + (VIEW_ANGLE_OFFSET - SKY_ANGLE_OFFSET_GROUND) * f;
+}
+
 // x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
-// (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = VIEW_ANGLE_SHARE, e = VIEW_ANGLE_OFFSET,
-// y linear in d / (1 + k d) (parameterization.py's distance_coordinate); 0 where the half is a single ray.
-float distance_coordinate(float d, float d_min, float d_max, float k) {
+// (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = VIEW_ANGLE_SHARE, e the half's offset
+// (VIEW_ANGLE_OFFSET, or sky_angle_offset), the square roots' difference written without cancellation; y linear in
+// d / (1 + k d) (parameterization.py's distance_coordinate); 0 where the half is a single ray.
+float distance_coordinate(float d, float d_min, float d_max, float k, float e) {
     float low = d_min / (1.0 + k * d_min);
     float span = d_max / (1.0 + k * d_max) - low;
     float y = span > 0.0 ? clamp((d / (1.0 + k * d) - low) / span, 0.0, 1.0) : 0.0;
-    float e = VIEW_ANGLE_OFFSET;
     return (1.0 - VIEW_ANGLE_SHARE) * y
-        + VIEW_ANGLE_SHARE * (sqrt(y + e) - sqrt(e)) / (sqrt(1.0 + e) - sqrt(e));
+        + VIEW_ANGLE_SHARE * y * (sqrt(1.0 + e) + sqrt(e)) / max(sqrt(y + e) + sqrt(e), 1e-30);
 }
 
 // Its inverse: the length of the ray at x (the positive root s = sqrt(y + e) of a quadratic).
-float distance_from_coordinate(float x, float d_min, float d_max, float k) {
+float distance_from_coordinate(float x, float d_min, float d_max, float k, float e) {
     float c = VIEW_ANGLE_SHARE;
-    float e = VIEW_ANGLE_OFFSET;
     float big_d = sqrt(1.0 + e) - sqrt(e);
     float a = 1.0 - c;
     float b = c / big_d;
@@ -251,7 +261,7 @@ const float LINEAR_ALTITUDE = 0.005;
 float refine_dipping_rays(float x, float a, float h, float d_min, float d_max, float k) {
     float c = PIVOT_SMOOTHING * h;
     float s = max(d_min * (top_radius + radius_of(a)), 0.0);
-    float x_p = clamp(distance_coordinate(s / sqrt(s + c * c), d_min, d_max, k), 0.0, 1.0);
+    float x_p = clamp(distance_coordinate(s / sqrt(s + c * c), d_min, d_max, k, sky_angle_offset(a)), 0.0, 1.0);
     if (x <= x_p) return x;
     float w = 1.0 - exp(-max(a, 0.0) / (REFINEMENT_ALTITUDE * (top_radius - bottom_radius)));
     float t = clamp((1.0 - x) / max(1.0 - x_p, 1e-30), 0.0, 1.0);
@@ -285,14 +295,15 @@ vec4 scattering_uvwz_from_r_mu_mu_s_nu(float a, float mu, float mu_s, float nu, 
     float u_mu;
     if (intersects_ground) {
         float d = distance_to_bottom_atmosphere_boundary(a, mu);
-        float x = distance_coordinate(d, a, rho, distance_warp(a, true));
+        float x = distance_coordinate(d, a, rho, distance_warp(a, true), VIEW_ANGLE_OFFSET);
         u_mu = 0.5 - 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
     } else {
         float d = -r_mu + safe_sqrt(disc + h * h);
         float d_min = (top_radius - bottom_radius) - a;
         float d_max = rho + h;
         float k = distance_warp(a, false);
-        float x = refine_dipping_rays(distance_coordinate(d, d_min, d_max, k), a, h, d_min, d_max, k);
+        float x = refine_dipping_rays(distance_coordinate(d, d_min, d_max, k, sky_angle_offset(a)), a, h, d_min,
+                                     d_max, k);
         u_mu = 0.5 + 0.5 * texcoord_from_unit_range(x, size.z / 2.0);
     }
     float u_mu_s = texcoord_from_unit_range(max(x_mu_s_from_mu_s(mu_s), 0.0), size.y);
@@ -316,9 +327,9 @@ vec4 ground_row_factor(float a, float mu, bool intersects_ground, float n_r, flo
     float f = x_r_from_rho(rho, h) * (n_r - 1.0);
     if (!intersects_ground || f <= 0.0 || f >= 1.0) return vec4(1.0);
     float d = distance_to_bottom_atmosphere_boundary(a, mu);
-    float x = distance_coordinate(d, a, rho, distance_warp(a, true));
+    float x = distance_coordinate(d, a, rho, distance_warp(a, true), VIEW_ANGLE_OFFSET);
     float a_1 = rho_1 * rho_1 / (sqrt(rho_1 * rho_1 + bottom_radius * bottom_radius) + bottom_radius);
-    float d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(a_1, true));
+    float d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(a_1, true), VIEW_ANGLE_OFFSET);
     float mu_1 = clamp_cosine(-(rho_1 * rho_1 + d_1 * d_1) / (2.0 * radius_of(a_1) * d_1));
     vec4 tau_1 = get_optical_depth(a_1, mu_1, d_1, g);
     float k = d / d_1;

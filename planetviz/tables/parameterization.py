@@ -115,8 +115,8 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     u_mu_g = 0.5 - 0.5 * texcoord_from_unit_range(x_g, n_mu // 2)
     # Sky rays: distance to the top, from R_t - r (looking up) to rho + H (the horizon).
     d_s = -r_mu + safe_sqrt(disc + h * h)
-    x_s = refine_dipping_rays(distance_coordinate(d_s, top - r, rho + h, distance_warp(r, bottom, top, False)),
-                              r, bottom, top)
+    x_s = refine_dipping_rays(distance_coordinate(d_s, top - r, rho + h, distance_warp(r, bottom, top, False),
+                                                  sky_angle_offset(r, bottom, top)), r, bottom, top)
     u_mu_s_half = 0.5 + 0.5 * texcoord_from_unit_range(x_s, n_mu // 2)
     u_mu = np.where(intersects_ground, u_mu_g, u_mu_s_half)
     return x_nu_from_nu(mu, mu_s, nu), u_mu_s, u_mu, u_r
@@ -262,8 +262,8 @@ def dipping_pivot_and_weight(r, bottom, top):
     c = PIVOT_SMOOTHING * h
     d_min, d_max = top - r, rho + h
     s = np.maximum((top - r) * (top + r), 0.0)
-    x_p = np.clip(distance_coordinate(s / np.sqrt(s + c * c), d_min, d_max, distance_warp(r, bottom, top, False)),
-                  0.0, 1.0)
+    x_p = np.clip(distance_coordinate(s / np.sqrt(s + c * c), d_min, d_max, distance_warp(r, bottom, top, False),
+                                      sky_angle_offset(r, bottom, top)), 0.0, 1.0)
     w = 1.0 - np.exp(-np.maximum(r - bottom, 0.0) / (REFINEMENT_ALTITUDE * (top - bottom)))
     return x_p, w
 
@@ -271,7 +271,7 @@ def dipping_pivot_and_weight(r, bottom, top):
 def _softened_sqrt(t, e):
     """(sqrt(t + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), in a form without cancellation: 0 at t = 0, 1 at
     t = 1; sqrt(t) for e = 0, linear in t where t << e."""
-    return t * (np.sqrt(1.0 + e) + np.sqrt(e)) / (np.sqrt(t + e) + np.sqrt(e))
+    return t * (np.sqrt(1.0 + e) + np.sqrt(e)) / np.maximum(np.sqrt(t + e) + np.sqrt(e), 1e-300)
 
 
 def _linear_share(r, bottom, top):
@@ -384,7 +384,20 @@ VIEW_ANGLE_SHARE = 0.5
 VIEW_ANGLE_OFFSET = 1.5e-3
 
 
-def distance_coordinate(d, d_min, d_max, k):
+#: The sky half's offset at the ground, and the exponent of the altitude's share of the thickness with which it
+#: rises to VIEW_ANGLE_OFFSET at the top (:func:`sky_angle_offset`).
+SKY_ANGLE_OFFSET_GROUND = 0.0
+SKY_ANGLE_OFFSET_EXPONENT = 1.0
+
+
+def sky_angle_offset(r, bottom, top):
+    """e of the sky half's :func:`distance_coordinate` for cameras at radius r: SKY_ANGLE_OFFSET_GROUND at the
+    ground, rising as (a / (R_t - R_b))^p to VIEW_ANGLE_OFFSET at the top."""
+    f = np.clip((np.asarray(r, dtype=float) - bottom) / (top - bottom), 0.0, 1.0) ** SKY_ANGLE_OFFSET_EXPONENT
+    return SKY_ANGLE_OFFSET_GROUND + (VIEW_ANGLE_OFFSET - SKY_ANGLE_OFFSET_GROUND) * f
+
+
+def distance_coordinate(d, d_min, d_max, k, e=None):
     """x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
     (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = ``VIEW_ANGLE_SHARE``,
     e = ``VIEW_ANGLE_OFFSET``, y linear in d / (1 + k d), k of :func:`distance_warp` (Bruneton's
@@ -392,15 +405,14 @@ def distance_coordinate(d, d_min, d_max, k):
     low = _warped(d_min, k)
     span = _warped(d_max, k) - low
     y = np.clip(np.where(span > 0.0, (_warped(d, k) - low) / np.where(span > 0.0, span, 1.0), 0.0), 0.0, 1.0)
-    e = VIEW_ANGLE_OFFSET
-    return (1.0 - VIEW_ANGLE_SHARE) * y + VIEW_ANGLE_SHARE * (np.sqrt(y + e) - np.sqrt(e)) / (np.sqrt(1.0 + e) -
-                                                                                          np.sqrt(e))
+    e = VIEW_ANGLE_OFFSET if e is None else e
+    return (1.0 - VIEW_ANGLE_SHARE) * y + VIEW_ANGLE_SHARE * _softened_sqrt(y, e)
 
 
-def distance_from_coordinate(x, d_min, d_max, k):
+def distance_from_coordinate(x, d_min, d_max, k, e=None):
     """Inverse of :func:`distance_coordinate`: the length d of the ray at x; with s = sqrt(y + e), the quadratic
     (1 - c) s^2 + (c / D) s - ((1 - c) e + c sqrt(e) / D + x) = 0, D = sqrt(1 + e) - sqrt(e)."""
-    c, e = VIEW_ANGLE_SHARE, VIEW_ANGLE_OFFSET
+    c, e = VIEW_ANGLE_SHARE, VIEW_ANGLE_OFFSET if e is None else e
     x = np.clip(x, 0.0, 1.0)
     D = np.sqrt(1.0 + e) - np.sqrt(e)
     a, b, q = 1.0 - c, c / D, (1.0 - c) * e + c * np.sqrt(e) / D + x
@@ -481,7 +493,8 @@ def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size
     mu_g = np.where(d_g == 0.0, -1.0, -(rho * rho + d_g * d_g) / np.where(d_g == 0.0, 1.0, 2.0 * r * d_g))
     # sky half
     x_s = unrefine_dipping_rays(unit_range_from_texcoord(2.0 * u_mu - 1.0, n_mu // 2), r, bottom, top)
-    d_s = distance_from_coordinate(x_s, top - r, rho + h, distance_warp(r, bottom, top, False))
+    d_s = distance_from_coordinate(x_s, top - r, rho + h, distance_warp(r, bottom, top, False),
+                                   sky_angle_offset(r, bottom, top))
     mu_sky = np.where(d_s == 0.0, 1.0, (h * h - rho * rho - d_s * d_s) / np.where(d_s == 0.0, 1.0, 2.0 * r * d_s))
     mu = clamp_cosine(np.where(ground, mu_g, mu_sky))
     mu_s = mu_s_from_x_mu_s(unit_range_from_texcoord(u_mu_s, n_mu_s), bottom, top)
