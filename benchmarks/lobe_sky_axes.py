@@ -15,7 +15,8 @@ benchmarks/tables_disort.py (its own error 0.3%, ../shared/notes/disort.md). Eac
 ``TableSizes`` fields changed from the standard level; ``--mu-s-angle-share``, ``--view-zenith-share`` and
 ``--view-angle-offset`` set ``parameterization.SUN_ANGLE_SHARE`` (the sun-zenith coordinate's share of the angle;
 0 is Bruneton's), ``VIEW_ANGLE_SHARE`` and ``VIEW_ANGLE_OFFSET`` (the view-zenith coordinate's angle-like part;
-share 0 is the distance coordinate alone) for this run, the tables' values by default, every combination
+share 0 is the distance coordinate alone; the offset is the ground half's and, times the camera's altitude over the
+thickness, the sky half's: ``parameterization.sky_angle_offset``) for this run, the tables' values by default, every combination
 run. ``--order2``: the tables' order 2 (``multiple.first_two_orders`` less their first) against a brute-force
 plane-parallel order 2 instead of DISORT (the first order's light from 4,001 levels, integrated over 192
 Gauss-Legendre cosines x 360 azimuths at 201 levels; the first order printed beside it shows the brute force's

@@ -208,18 +208,14 @@ float distance_warp(float a, bool ground) {
 // The angle's share in the view-zenith coordinate (parameterization.py's VIEW_ANGLE_SHARE).
 const float VIEW_ANGLE_SHARE = 0.5;
 
-// The offset e of the coordinate's angle-like part (parameterization.py's VIEW_ANGLE_OFFSET).
+// The offset e of the coordinate's angle-like part in the ground half and at the top (parameterization.py's
+// VIEW_ANGLE_OFFSET).
 const float VIEW_ANGLE_OFFSET = 1.5e-3;
 
-// The sky half's offset at the ground and the exponent of its rise to VIEW_ANGLE_OFFSET at the top
-// (parameterization.py's SKY_ANGLE_OFFSET_GROUND and SKY_ANGLE_OFFSET_EXPONENT).
-const float SKY_ANGLE_OFFSET_GROUND = 0.0;
-const float SKY_ANGLE_OFFSET_EXPONENT = 1.0;
-
-// e of the sky half's distance_coordinate for a camera at altitude a (parameterization.py's sky_angle_offset).
+// e of the sky half's distance_coordinate for a camera at altitude a: VIEW_ANGLE_OFFSET times a over the thickness
+// (parameterization.py's sky_angle_offset).
 float sky_angle_offset(float a) {
-    float f = pow(clamp(a / (top_radius - bottom_radius), 0.0, 1.0), SKY_ANGLE_OFFSET_EXPONENT);
-    return SKY_ANGLE_OFFSET_GROUND + (VIEW_ANGLE_OFFSET - SKY_ANGLE_OFFSET_GROUND) * f;
+    return VIEW_ANGLE_OFFSET * clamp(a / (top_radius - bottom_radius), 0.0, 1.0);
 }
 
 // x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:

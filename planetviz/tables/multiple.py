@@ -37,9 +37,10 @@ that a sharp forward lobe leaves a slowly varying table, both divided by the ray
 as the single-scattering tables are; E accumulates into the irradiance table, and J on its top row, views upward,
 into the top tables (:func:`top_source`). Orders
 stop when the tail estimated from the ratio q of the last two orders, S_n q / (1 - q), is below
-``tolerance`` of the total (both for scattering and irradiance), or at ``max_orders``; stopped there with
+``tolerance`` of the total (both for scattering and irradiance), or at ``max_orders``; either way, with
 ``tolerance`` > 0, the tail is added (``geometric_tail``; with ``tolerance`` = 0 the sum is exactly the orders
-up to ``max_orders``).
+up to ``max_orders``): the tail is below ``tolerance`` of the whole table when the orders stop, not everywhere in
+it (near the ground of an optically thick atmosphere the orders fall more slowly; docs/tables.md measures it).
 """
 from __future__ import annotations
 
@@ -711,12 +712,11 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         if progress and done > 0:
             progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / done))
         last = size_now
-    else:
-        if tolerance > 0 and order > 2:      # stopped by the cap, not converged: add the orders beyond it
-            tail = geometric_tail(ms_prev, before[0])
-            total += ms_prev * tail
-            top_total += J_prev[-1, :upward] * tail
-            irradiance += irr_prev * geometric_tail(irr_prev, before[1])
+    if tolerance > 0 and order > 2:          # the orders after the last, as a geometric series
+        tail = geometric_tail(ms_prev, before[0])
+        total += ms_prev * tail
+        top_total += J_prev[-1, :upward] * tail
+        irradiance += irr_prev * geometric_tail(irr_prev, before[1])
     if progress:
         progress(f"multiple scattering, {order} orders", 1.0)
     top, top_mie = top_source(atm, top_total)

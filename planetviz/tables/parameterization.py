@@ -369,39 +369,37 @@ def _warped(d, k):
 #: The share of the angle in the view-zenith coordinate: (1 - c) y + c s(y), y linear in the ray's length
 #: (:func:`distance_coordinate`), s(y) a square root (``VIEW_ANGLE_OFFSET``). The length, H / cos(theta) next to the
 #: zenith and the nadir, is flat there: with c = 0 the sky's first texels seen from the ground lie at 0 and 48.9 deg
-#: from the zenith, with c = 1/2 at 0, 26.4, 40.3 deg (random atmosphere 4's plane-parallel twin, 64 mu texels).
+#: from the zenith, with c = 1/2 at 0, 19.2, 34.6 deg (random atmosphere 4's plane-parallel twin, 64 mu texels;
+#: :func:`sky_angle_offset`).
 #: Under a forward lobe in an optically thick atmosphere (that twin) the sky within 35 deg of the zenith read up to
 #: +14% / -16% off DISORT with c = 0 (benchmarks/lobe_sky_axes.py).
 VIEW_ANGLE_SHARE = 0.5
 
 
 #: The offset e of the angle-like part of the view-zenith coordinate, s(y) = (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e)
-#: - sqrt(e)): sqrt(y) alone is linear in the angle next to the zenith and the nadir but its slope there is
-#: infinite, and a camera that enters at the top moves its rays' coordinates by 0.013 texel over 1 m
-#: (tests/test_tables.py bounds 1e-3); e = 1.5e-3 keeps that under the bound and puts the sky's first texels at
-#: 26.4 deg rather than sqrt's 19.2 (random atmosphere 4's twin: 1.42% / 1.21% RMS off DISORT with the sun 30 / 70
-#: deg from the zenith, against sqrt's 0.89% / 0.56%; benchmarks/lobe_sky_axes.py).
+#: - sqrt(e)), in the ground half and, for a camera at the top, in the sky half (:func:`sky_angle_offset`): sqrt(y)
+#: alone is linear in the angle next to the zenith and the nadir but its slope there is infinite, and a camera that
+#: enters at the top moves its rays' coordinates by 0.013 texel over 1 m (tests/test_tables.py bounds 1e-3), and
+#: short ground rays lose their proportion to the length; e = 1.5e-3 keeps both within their tests.
 VIEW_ANGLE_OFFSET = 1.5e-3
 
 
-#: The sky half's offset at the ground, and the exponent of the altitude's share of the thickness with which it
-#: rises to VIEW_ANGLE_OFFSET at the top (:func:`sky_angle_offset`).
-SKY_ANGLE_OFFSET_GROUND = 0.0
-SKY_ANGLE_OFFSET_EXPONENT = 1.0
-
-
 def sky_angle_offset(r, bottom, top):
-    """e of the sky half's :func:`distance_coordinate` for cameras at radius r: SKY_ANGLE_OFFSET_GROUND at the
-    ground, rising as (a / (R_t - R_b))^p to VIEW_ANGLE_OFFSET at the top."""
-    f = np.clip((np.asarray(r, dtype=float) - bottom) / (top - bottom), 0.0, 1.0) ** SKY_ANGLE_OFFSET_EXPONENT
-    return SKY_ANGLE_OFFSET_GROUND + (VIEW_ANGLE_OFFSET - SKY_ANGLE_OFFSET_GROUND) * f
+    """e of the sky half's :func:`distance_coordinate` for cameras at radius r: VIEW_ANGLE_OFFSET times the
+    camera's altitude over the thickness. On the ground e = 0 and s(y) = sqrt(y): the sky's first texels seen from
+    there lie at 0, 19.2, 34.6 deg from the zenith (random atmosphere 4's plane-parallel twin, 64 mu texels; with
+    e = VIEW_ANGLE_OFFSET at 0, 26.4, 40.3 deg, and under its forward lobe the views 10 deg from the zenith read
+    +3.8% / -3.7% off DISORT toward / away from the sun; benchmarks/lobe_sky_axes.py). At the top e =
+    VIEW_ANGLE_OFFSET, whose finite slope a camera entering the atmosphere needs."""
+    return VIEW_ANGLE_OFFSET * np.clip((np.asarray(r, dtype=float) - bottom) / (top - bottom), 0.0, 1.0)
 
 
 def distance_coordinate(d, d_min, d_max, k, e=None):
     """x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
-    (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = ``VIEW_ANGLE_SHARE``,
-    e = ``VIEW_ANGLE_OFFSET``, y linear in d / (1 + k d), k of :func:`distance_warp` (Bruneton's
-    (d - d_min) / (d_max - d_min) for k = 0); 0 where the half is a single ray (d_max = d_min)."""
+    (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = ``VIEW_ANGLE_SHARE``, e the half's
+    offset (``VIEW_ANGLE_OFFSET`` if None: the ground half's; the sky half's is :func:`sky_angle_offset`), y linear
+    in d / (1 + k d), k of :func:`distance_warp` (Bruneton's (d - d_min) / (d_max - d_min) for k = 0); 0 where the
+    half is a single ray (d_max = d_min)."""
     low = _warped(d_min, k)
     span = _warped(d_max, k) - low
     y = np.clip(np.where(span > 0.0, (_warped(d, k) - low) / np.where(span > 0.0, span, 1.0), 0.0), 0.0, 1.0)
@@ -410,7 +408,8 @@ def distance_coordinate(d, d_min, d_max, k, e=None):
 
 
 def distance_from_coordinate(x, d_min, d_max, k, e=None):
-    """Inverse of :func:`distance_coordinate`: the length d of the ray at x; with s = sqrt(y + e), the quadratic
+    """Inverse of :func:`distance_coordinate` (the same ``e``): the length d of the ray at x; with s = sqrt(y + e),
+    the quadratic
     (1 - c) s^2 + (c / D) s - ((1 - c) e + c sqrt(e) / D + x) = 0, D = sqrt(1 + e) - sqrt(e)."""
     c, e = VIEW_ANGLE_SHARE, VIEW_ANGLE_OFFSET if e is None else e
     x = np.clip(x, 0.0, 1.0)

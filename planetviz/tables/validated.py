@@ -81,7 +81,7 @@ CONDITIONS = (
     Condition("forward lobe", "the particles' strongest forward lobe g", strongest_forward_lobe, FORWARD_LOBE_G,
               rms=0.012, p95=0.028, noise=0.011),
     Condition("large planet", "the planet radius [m]", lambda atm: atm.bottom_radius_m, 1e8,
-              rms=0.030, p95=0.064, noise=0.021),
+              rms=0.030, p95=0.063, noise=0.021),
 )
 
 
