@@ -523,12 +523,12 @@ def test_the_view_zenith_axis_keeps_the_sky_on_every_planet():
                     k = p.distance_warp(r, bottom, top, ground)
                     x = np.linspace(0.0, 1.0, 11)
                     d_min, d_max = (r - bottom, 2.0 * thickness) if ground else (top - r, 5.0 * thickness)
-                    for e in (None, 0.0, p.sky_angle_offset(r, bottom, top)):
+                    for e in (p.VIEW_ANGLE_OFFSET, 0.0, p.sky_angle_offset(r, bottom, top)):
                         back = p.distance_coordinate(p.distance_from_coordinate(x, d_min, d_max, k, e), d_min, d_max,
                                                      k, e)
                         # With e = 0 the coordinate is sqrt(y) next to y = 0, which turns the rounding of y (about
                         # 1e-16) into 1e-8 of x; with e > 0 its slope is finite.
-                        assert np.allclose(back, x, atol=1e-7 if e is not None and e < 1e-12 else 1e-9)
+                        assert np.allclose(back, x, atol=1e-7 if e < 1e-12 else 1e-9)
     for preset in ("earth", "mars", "exo-co2-thick"):
         atm = load_atmosphere(preset)
         for ground in (True, False):

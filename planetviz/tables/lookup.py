@@ -9,7 +9,8 @@ import numpy as np
 from .parameterization import (distance_coordinate, distance_from_coordinate, distance_to_bottom_atmosphere_boundary,
                                distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
                                ray_intersects_ground, rho_from_x_r, safe_sqrt, scattering_uvwz_from_r_mu_mu_s_nu,
-                               texcoord_from_unit_range, transmittance_uv_from_r_mu, x_mu_s_from_mu_s, x_r_from_rho)
+                               texcoord_from_unit_range, transmittance_uv_from_r_mu, VIEW_ANGLE_OFFSET,
+                               x_mu_s_from_mu_s, x_r_from_rho)
 from .sampling import texel_axis
 from .sampling import texture2d
 
@@ -160,11 +161,11 @@ def ground_row_factor(t, r, mu, intersects_ground, n_r):
     r, mu, rho, f = r[sel], mu[sel], rho[sel], f[sel]
     a = r - t.bottom
     d = distance_to_bottom_atmosphere_boundary(r, mu, t.bottom)
-    x = distance_coordinate(d, a, rho, distance_warp(r, t.bottom, t.top, True))
+    x = distance_coordinate(d, a, rho, distance_warp(r, t.bottom, t.top, True), VIEW_ANGLE_OFFSET)
     rho_1 = first_row_rho(t, n_r)
     r_1 = np.sqrt(rho_1 * rho_1 + t.bottom * t.bottom)
     a_1 = rho_1 * rho_1 / (r_1 + t.bottom)
-    d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(r_1, t.bottom, t.top, True))
+    d_1 = distance_from_coordinate(x, a_1, rho_1, distance_warp(r_1, t.bottom, t.top, True), VIEW_ANGLE_OFFSET)
     mu_1 = np.clip(-(rho_1 * rho_1 + d_1 * d_1) / (2.0 * r_1 * d_1), -1.0, 1.0)
     tau_1 = get_optical_depth(t, np.full_like(r, r_1), mu_1, d_1)
     k = (d / d_1)[:, None]

@@ -111,7 +111,7 @@ def scattering_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, intersects_ground, bottom
     disc = r_mu * r_mu - r * r + bottom * bottom
     # Ground rays: distance to the ground, from r - R_b (looking down) to rho (the horizon).
     d_g = -r_mu - safe_sqrt(disc)
-    x_g = distance_coordinate(d_g, r - bottom, rho, distance_warp(r, bottom, top, True))
+    x_g = distance_coordinate(d_g, r - bottom, rho, distance_warp(r, bottom, top, True), VIEW_ANGLE_OFFSET)
     u_mu_g = 0.5 - 0.5 * texcoord_from_unit_range(x_g, n_mu // 2)
     # Sky rays: distance to the top, from R_t - r (looking up) to rho + H (the horizon).
     d_s = -r_mu + safe_sqrt(disc + h * h)
@@ -394,24 +394,23 @@ def sky_angle_offset(r, bottom, top):
     return VIEW_ANGLE_OFFSET * np.clip((np.asarray(r, dtype=float) - bottom) / (top - bottom), 0.0, 1.0)
 
 
-def distance_coordinate(d, d_min, d_max, k, e=None):
+def distance_coordinate(d, d_min, d_max, k, e):
     """x in [0, 1] of a ray of length d in a half of the view-zenith axis from d_min to d_max:
     (1 - c) y + c (sqrt(y + e) - sqrt(e)) / (sqrt(1 + e) - sqrt(e)), c = ``VIEW_ANGLE_SHARE``, e the half's
-    offset (``VIEW_ANGLE_OFFSET`` if None: the ground half's; the sky half's is :func:`sky_angle_offset`), y linear
+    offset (the ground half's ``VIEW_ANGLE_OFFSET``, the sky half's :func:`sky_angle_offset`), y linear
     in d / (1 + k d), k of :func:`distance_warp` (Bruneton's (d - d_min) / (d_max - d_min) for k = 0); 0 where the
     half is a single ray (d_max = d_min)."""
     low = _warped(d_min, k)
     span = _warped(d_max, k) - low
     y = np.clip(np.where(span > 0.0, (_warped(d, k) - low) / np.where(span > 0.0, span, 1.0), 0.0), 0.0, 1.0)
-    e = VIEW_ANGLE_OFFSET if e is None else e
     return (1.0 - VIEW_ANGLE_SHARE) * y + VIEW_ANGLE_SHARE * _softened_sqrt(y, e)
 
 
-def distance_from_coordinate(x, d_min, d_max, k, e=None):
+def distance_from_coordinate(x, d_min, d_max, k, e):
     """Inverse of :func:`distance_coordinate` (the same ``e``): the length d of the ray at x; with s = sqrt(y + e),
     the quadratic
     (1 - c) s^2 + (c / D) s - ((1 - c) e + c sqrt(e) / D + x) = 0, D = sqrt(1 + e) - sqrt(e)."""
-    c, e = VIEW_ANGLE_SHARE, VIEW_ANGLE_OFFSET if e is None else e
+    c = VIEW_ANGLE_SHARE
     x = np.clip(x, 0.0, 1.0)
     D = np.sqrt(1.0 + e) - np.sqrt(e)
     a, b, q = 1.0 - c, c / D, (1.0 - c) * e + c * np.sqrt(e) / D + x
@@ -488,7 +487,7 @@ def r_mu_mu_s_nu_from_scattering_uvwz(u_nu, u_mu_s, u_mu, u_r, bottom, top, size
     ground = u_mu < 0.5
     # ground half
     d_g = distance_from_coordinate(unit_range_from_texcoord(1.0 - 2.0 * u_mu, n_mu // 2), r - bottom, rho,
-                                   distance_warp(r, bottom, top, True))
+                                   distance_warp(r, bottom, top, True), VIEW_ANGLE_OFFSET)
     mu_g = np.where(d_g == 0.0, -1.0, -(rho * rho + d_g * d_g) / np.where(d_g == 0.0, 1.0, 2.0 * r * d_g))
     # sky half
     x_s = unrefine_dipping_rays(unit_range_from_texcoord(2.0 * u_mu - 1.0, n_mu // 2), r, bottom, top)
