@@ -465,14 +465,14 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
     return [out[lobe] for lobe in lobes]
 
 
-#: Rays whose optical depth exceeds ``SPLIT_OPTICAL_DEPTH`` at some wavelength before ``SPLIT_NODE_SHARE`` of
-#: their quadrature nodes are integrated on two segments, split where it is reached (``nodes.split_ray_nodes``),
-#: in every atmosphere (in optically thick ones, every ray): a ray that leaves the ground 1.7 deg up on a planet of
-#: 4e8 m crosses an optical depth of 18 at 440 nm, nearly all of it in the first 0.4% of its 60,000 km, where one
-#: Gauss-Legendre rule over the whole ray puts 2 of its 16 nodes (order 2 read 7.2% low there, 0.6% split;
-#: benchmarks/tables_orders.py, random atmosphere 100005; 6.6% low with the split only where a quarter of the
-#: nodes lie before that depth). 18% of Earth's texels' rays are split (38% reach that depth: splitting them all
-#: cost its standard precompute 0.3 s of 3.5).
+#: Rays whose optical depth exceeds ``SPLIT_OPTICAL_DEPTH`` at some wavelength before ``SPLIT_NODE_SHARE`` of their
+#: quadrature nodes are integrated on three segments (``nodes.split_ray_nodes``: the first up to that depth of the
+#: most extinguished wavelength), in every atmosphere (in optically thick ones, every ray): a ray that leaves the
+#: ground 1.7 deg up on a planet of 4e8 m crosses an optical depth of 18 at 440 nm, nearly all of it in the first
+#: 0.4% of its 60,000 km, where one Gauss-Legendre rule over the whole ray puts 2 of its 16 nodes (order 2 read 7.2%
+#: low there, 0.6% split in two at that depth; benchmarks/tables_orders.py, random atmosphere 100005; 6.6% low with
+#: the split only where a quarter of the nodes lie before that depth). 18% of Earth's texels' rays are split (38%
+#: reach that depth: splitting them all cost its standard precompute 0.3 s of 3.5).
 SPLIT_OPTICAL_DEPTH, SPLIT_NODE_SHARE = 3.0, 0.5
 
 
@@ -481,7 +481,7 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
     ground's horizontal ray to the top, and longer ones, which graze the planet from high up and get
     ``nodes.LONG_RAY_NODE_FACTOR`` times the nodes (through the limb seen from space the density peaks in
     the middle of a 1600 km ray: with 8 nodes order 2 read 11% above its value with 4x the nodes at 440 nm,
-    tests/test_tables.py); each of them split in two segments where its optical depth exceeds
+    tests/test_tables.py); each of them split in three segments where its optical depth exceeds
     ``SPLIT_OPTICAL_DEPTH`` before ``SPLIT_NODE_SHARE`` of its nodes (every ray where the atmosphere is optically
     ``thick``). The rays are ``nodes.integration_grid``'s for a table of ``size``. Returns [(rays, an
     index into the (n_r, n_mu) axes; the stencil reading J, a table of ``density_shape``, at the nodes; node
@@ -519,7 +519,7 @@ def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, split
     ground, prepared for J's table of ``shape``: (the stencil reading J at the nodes, node weights (..., K, 2W)
     with the view transmittance and each component's density folded in, against J's 2W channels). r, mu,
     ``ground`` and d broadcast against mu_s and nu; n nodes per side of the closest approach
-    (``nodes.ray_nodes``), on two segments where ``split`` (``nodes.split_ray_nodes``)."""
+    (``nodes.ray_nodes``), on three segments where ``split`` (``nodes.split_ray_nodes``)."""
     t, wt = split_ray_nodes(atm, r, mu, d, n, SPLIT_OPTICAL_DEPTH) if split else ray_nodes(r, mu, d, n)  # (..., K)
     r, mu, d = r[..., None], mu[..., None], d[..., None]
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * r * mu * t + r * r, 0.0)), tables.bottom, tables.top)

@@ -61,34 +61,55 @@ def ray_nodes(r, mu, d, n, start=0.0):
 
 
 def split_ray_nodes(atm, r, mu, d, n, depth=3.0, fine=64):
-    """:func:`ray_nodes` on two segments of the ray, split where the optical depth of the most extinguished
-    wavelength reaches ``depth`` (or at d): (..., 4n) nodes and weights.
+    """:func:`ray_nodes` on three segments of the ray (:func:`split_distances`): (..., 4n) nodes and weights, n per
+    side on the first segment and n // 2 (at least 1) on each other.
 
     For optically thick atmospheres, where the in-scattered light comes from the first attenuation lengths
     (a few hundred metres at tau = 4) while the more transparent wavelengths see tens of kilometres: one
-    Gauss-Legendre rule over the whole ray puts its first nodes kilometres apart.
+    Gauss-Legendre rule over the whole ray puts its first nodes kilometres apart. The second split keeps the
+    more transparent wavelengths' first attenuation lengths off a segment that runs to the end of a long ray:
+    split at the first wavelength's depth alone (two segments of n per side, as many nodes), random atmosphere
+    4's sky at 550 nm reads 1.0% below the same sky computed without its 440 nm channel (tests/test_tables.py).
     """
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
-    t_split = depth_distance(atm, r, mu, d, depth, fine)
-    t1, w1 = ray_nodes(r, mu, t_split, n)
-    r_s = np.sqrt(np.maximum(t_split * t_split + 2.0 * r * mu * t_split + r * r, 0.0))
-    mu_s = np.clip((r * mu + t_split) / np.maximum(r_s, 1e-300), -1.0, 1.0)
-    t2, w2 = ray_nodes(r_s, mu_s, d - t_split, n)
-    return np.concatenate([t1, t_split[..., None] + t2], -1), np.concatenate([w1, w2], -1)
+    ends = (np.zeros_like(d),) + split_distances(atm, r, mu, d, depth, fine) + (d,)
+    t, w = [], []
+    for k in range(3):
+        start, length = ends[k], ends[k + 1] - ends[k]
+        r_s = np.sqrt(np.maximum(start * start + 2.0 * r * mu * start + r * r, 0.0))
+        mu_s = np.clip((r * mu + start) / np.maximum(r_s, 1e-300), -1.0, 1.0)
+        t_k, w_k = ray_nodes(r_s, mu_s, length, n if k == 0 else max(n // 2, 1))
+        t.append(start[..., None] + t_k)
+        w.append(w_k)
+    return np.concatenate(t, -1), np.concatenate(w, -1)
 
 
-def depth_distance(atm, r, mu, d, depth=3.0, fine=64):
-    """The distance [m] along the rays (r, mu) of length d at which the optical depth of the most extinguished
-    wavelength reaches ``depth`` (d where it does not): the node of :func:`ray_nodes` (``fine`` per side) where
-    the sum over the nodes first reaches it."""
+def split_distances(atm, r, mu, d, depth=3.0, fine=64):
+    """(t_a, t_b) [m] along the rays (r, mu) of length d: t_a where the optical depth of the most extinguished
+    wavelength reaches ``depth``, t_b where that of the least extinguished one (the smallest over the ray) has grown
+    past its value at t_a by ``depth`` or, if sooner, by half of what is left of it up to d (d where nothing is
+    reached); the nodes of :func:`ray_nodes` (``fine`` per side) where the sums over the nodes first reach them.
+    The segment from t_a to t_b holds the least extinguished wavelength's next attenuation lengths, or half of
+    its light beyond t_a where it crosses less than twice ``depth`` there."""
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
     tf, wf = ray_nodes(r, mu, d, fine)
     order = np.argsort(tf, -1)
     tf, wf = np.take_along_axis(tf, order, -1), np.take_along_axis(wf, order, -1)
-    beta = atm.extinction(altitude(r[..., None], mu[..., None], tf, atm.bottom_radius_m)).max(-1)
-    reached = np.cumsum(beta * wf, -1) >= depth
-    first = np.where(reached.any(-1), np.argmax(reached, -1), tf.shape[-1] - 1)
-    return np.where(reached.any(-1), np.take_along_axis(tf, first[..., None], -1)[..., 0], d)
+    beta = atm.extinction(altitude(r[..., None], mu[..., None], tf, atm.bottom_radius_m))      # (..., K, W)
+    tau = np.cumsum(beta * wf[..., None], -2)
+    a = np.where(tau[..., -1, :].max(-1) >= depth, np.argmax(tau.max(-1) >= depth, -1), tf.shape[-1] - 1)
+    least = np.take_along_axis(tau, np.argmin(tau[..., -1, :], -1)[..., None, None], -1)[..., 0]     # (..., K)
+    at_a = np.take_along_axis(least, a[..., None], -1)[..., 0]
+    target = at_a + np.minimum(depth, 0.5 * (least[..., -1] - at_a))
+    b = np.maximum(np.argmax(least >= target[..., None], -1), a)
+    at = lambda i: np.where(i < tf.shape[-1] - 1, np.take_along_axis(tf, i[..., None], -1)[..., 0], d)
+    return at(a), at(b)
+
+
+def depth_distance(atm, r, mu, d, depth=3.0, fine=64):
+    """The distance [m] along the rays (r, mu) of length d at which the optical depth of the most extinguished
+    wavelength reaches ``depth`` (d where it does not): :func:`split_distances`' first."""
+    return split_distances(atm, r, mu, d, depth, fine)[0]
 
 
 def altitude(r, mu, t, bottom):
