@@ -156,3 +156,12 @@ def test_any_number_is_either_accepted_in_range_or_refused_naming_the_field(fiel
         with pytest.raises(AtmosphereError) as info:
             Atmosphere.from_dict(d)
         assert info.value.field == f"{field}[{i}]"
+
+
+@pytest.mark.parametrize("split", ["tuning", "held-out"])
+def test_every_random_atmosphere_of_the_validation_suite_is_legal(split):
+    """The suite draws from everything the format allows and nothing beyond it: on a large planet an absorbing
+    layer drawn at a share of a thick atmosphere's height must stay within the format's altitude limit."""
+    from planetviz.validation import SPLITS, random_atmosphere
+    for seed in SPLITS[split]:
+        random_atmosphere(seed)
