@@ -36,7 +36,7 @@ from .multiple import multiple_scattering
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, altitude, integration_grid, is_optically_thick, ray_nodes,
                     scattering_share, texel_centres)
 from .parameterization import distance_to_top_atmosphere_boundary, r_axis, r_mu_from_transmittance_uv
-from .validated import strongest_forward_lobe
+from .validated import strongest_forward_lobe, thick_forward_lobe
 
 
 @dataclass(frozen=True)
@@ -103,6 +103,13 @@ THICK_MULTIPLE_ROWS = 16
 #: of g = 0.65, optical depth 2.8) read 2.8% RMS off DISORT with the sun 70 deg from the zenith at 4 nu texels,
 #: 0.58% at 16 (the view coordinate's offset at 0; benchmarks/lobe_sky_axes.py).
 LOBE_TEXELS_G = 0.6
+#: The same under a forward lobe above this g where the particles' vertical scattering optical depth exceeds
+#: ``validated.THICK_PARTICLE_DEPTH``, whatever their share: the lobe then shapes the multiply scattered light,
+#: which the particles' forward factor (``multiple.forward_factor``, weighted by their share) leaves to the nu
+#: texels. Random atmosphere 4's 440 nm channel alone (g = 0.56, the particles' share 0.47, their optical depth
+#: 2.4) read 3.1% RMS off DISORT at 4 nu texels, 0.63% at 16; random atmosphere 160's lobes of g = 0.44 under an
+#: optical depth of 2-4 read 0.37% at 4 (``python benchmarks/tables_disort.py --random``).
+THICK_LOBE_TEXELS_G = 0.5
 
 
 def sizes_for(atm, sizes: TableSizes) -> TableSizes:
@@ -112,8 +119,9 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
        (the standard and high levels have as many; the draft level 8). With 8, the 10-bar CO2 planet's 12 test rays
        read 2.2% RMS off the reference at standard (up to 5.4% low at 440 nm, where the light changes with the
        altitude's optical depth); with 16, 1.5% (tests/test_tables.py's rays, the reference's noise 0.9%);
-    2. under a forward lobe (``validated.strongest_forward_lobe`` above ``LOBE_TEXELS_G``) the
-       multiple-scattering tables have at least ``sizes.lobe_nu`` nu texels: their particles' part is stored over
+    2. under a forward lobe (``validated.strongest_forward_lobe`` above ``LOBE_TEXELS_G``, or
+       ``validated.thick_forward_lobe`` above ``THICK_LOBE_TEXELS_G``) the multiple-scattering tables have at least
+       ``sizes.lobe_nu`` nu texels: their particles' part is stored over
        the twice-scattered lobe F(nu), which varies a hundredfold across 4 texels, and the diffuse light seen
        along long rays varies as 1 / F between them; and at least ``sizes.lobe_mu_s`` mu_s texels: with 32, Mars's
        horizontal view toward the sun from 10 km read 5.6% high and the sky opposite the sun 4.8% low, with 48
@@ -122,7 +130,7 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     n_nu, n_mu_s, n_mu, n_r = sizes.multiple
     if is_optically_thick(atm):
         n_r = max(n_r, THICK_MULTIPLE_ROWS)
-    if strongest_forward_lobe(atm) > LOBE_TEXELS_G:
+    if strongest_forward_lobe(atm) > LOBE_TEXELS_G or thick_forward_lobe(atm) > THICK_LOBE_TEXELS_G:
         n_nu, n_mu_s = max(n_nu, sizes.lobe_nu), max(n_mu_s, sizes.lobe_mu_s)
     return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r))
 

@@ -29,6 +29,10 @@ PARTICLE_SHARE = 0.5
 #: A forward lobe with g above this, where the particles decide the light, is a dominant one: the condition
 #: "forward lobe" below, and the multiple-scattering tables' nu texels (``precompute.sizes_for``).
 FORWARD_LOBE_G = 0.7
+#: The particles' vertical scattering optical depth above which most light is scattered by them more than once,
+#: so that their lobe shapes the light of the orders above the first even where molecules hold most of the
+#: scattering (``thick_forward_lobe``).
+THICK_PARTICLE_DEPTH = 1.0
 
 
 def largest_vertical_optical_depth(atm) -> float:
@@ -36,20 +40,46 @@ def largest_vertical_optical_depth(atm) -> float:
     return float(np.max(atm.vertical_optical_depth()))
 
 
+def _vertical_scattering(atm):
+    """(W,) the molecules' and (W,) the particles' vertical scattering optical depth [dimensionless], from the
+    ground to the top (midpoint rule over 4096 layers)."""
+    heights = (np.arange(4096) + 0.5) * atm.thickness_m / 4096
+    layer = atm.thickness_m / 4096
+    rayleigh = np.sum(atm.rayleigh.profile.density(heights)) * layer * np.asarray(atm.rayleigh.scattering_m)
+    mie = np.sum(atm.mie.profile.density(heights)) * layer * np.asarray(atm.mie.scattering_m)
+    return rayleigh, mie
+
+
 def particle_scattering_share(atm) -> np.ndarray:
     """(W,) the particles' share of the vertical scattering optical depth per wavelength."""
-    heights = (np.arange(4096) + 0.5) * atm.thickness_m / 4096           # midpoint rule over the thickness
-    rayleigh = np.sum(atm.rayleigh.profile.density(heights)) * np.asarray(atm.rayleigh.scattering_m)
-    mie = np.sum(atm.mie.profile.density(heights)) * np.asarray(atm.mie.scattering_m)
+    rayleigh, mie = _vertical_scattering(atm)
     return mie / np.maximum(rayleigh + mie, 1e-300)
+
+
+def particle_scattering_depth(atm) -> np.ndarray:
+    """(W,) the particles' vertical scattering optical depth per wavelength [dimensionless]."""
+    return _vertical_scattering(atm)[1]
+
+
+def _forward_lobes(atm) -> np.ndarray:
+    """(W,) the largest asymmetry g of a double Henyey-Greenstein component (weight > ``LOBE_WEIGHT``)."""
+    g1, g2, alpha = (np.asarray(x, dtype=float) for x in (atm.mie.g1, atm.mie.g2, atm.mie.alpha))
+    return np.maximum(np.where(alpha > LOBE_WEIGHT, g1, -1.0), np.where(alpha < 1.0 - LOBE_WEIGHT, g2, -1.0))
 
 
 def strongest_forward_lobe(atm) -> float:
     """The largest asymmetry g of a double Henyey-Greenstein component (weight > ``LOBE_WEIGHT``) at a wavelength
     where the particles hold more than ``PARTICLE_SHARE`` of the scattering; 0 where they hold less everywhere."""
-    g1, g2, alpha = (np.asarray(x, dtype=float) for x in (atm.mie.g1, atm.mie.g2, atm.mie.alpha))
-    g = np.maximum(np.where(alpha > LOBE_WEIGHT, g1, -1.0), np.where(alpha < 1.0 - LOBE_WEIGHT, g2, -1.0))
-    return float(np.max(np.where(particle_scattering_share(atm) > PARTICLE_SHARE, g, 0.0), initial=0.0))
+    dominant = particle_scattering_share(atm) > PARTICLE_SHARE
+    return float(np.max(np.where(dominant, _forward_lobes(atm), 0.0), initial=0.0))
+
+
+def thick_forward_lobe(atm) -> float:
+    """The largest asymmetry g of a double Henyey-Greenstein component (weight > ``LOBE_WEIGHT``) at a wavelength
+    where the particles' vertical scattering optical depth exceeds ``THICK_PARTICLE_DEPTH``, whatever their share
+    of the scattering; 0 where it is less everywhere."""
+    thick = particle_scattering_depth(atm) > THICK_PARTICLE_DEPTH
+    return float(np.max(np.where(thick, _forward_lobes(atm), 0.0), initial=0.0))
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,19 @@ def plane_parallel_atmosphere(aerosol: bool, radius_m: float = 1.0e9):
     return type(load_atmosphere("earth")).from_dict(d)
 
 
+def plane_parallel_twin(atm, radius_m: float = 1.0e9):
+    """``atm`` on a planet of ``radius_m`` (by default the format's largest: its plane-parallel limit), its
+    thickness kept and its absorbing layers left out (DISORT's layers here hold the molecules and the particles).
+
+    >>> from planetviz.validation import random_atmosphere
+    >>> plane_parallel_twin(random_atmosphere(4)).absorption
+    ()
+    """
+    d = atm.to_dict()
+    d.update(bottom_radius_m=radius_m, top_radius_m=radius_m + atm.thickness_m, absorption=[])
+    return type(atm).from_dict(d)
+
+
 def isotropic_atmosphere(optical_depth, omega, albedo=0.3, scale_height_m=8000.0):
     """A plane-parallel planet (:func:`plane_parallel_atmosphere`) whose only scatterers are isotropic particles of
     total optical depths ``optical_depth`` (one per wavelength) and single-scattering albedo ``omega``, on a
