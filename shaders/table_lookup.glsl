@@ -173,9 +173,18 @@ float limited_bottom_radius() {
 // The sun's zenith angle's share in the sun-zenith coordinate (parameterization.py's SUN_ANGLE_SHARE).
 const float SUN_ANGLE_SHARE = 0.2;
 
+// The sun's zenith angle acos(mu_s) down to mu_s_min, continued below it along its tangent, linear in mu_s
+// (parameterization.py's sun_zenith_angle: acos's infinite slope at mu_s = -1 turned float32's rounding of mu_s
+// into 0.6% of the extrapolated night sky).
+float sun_zenith_angle(float mu_s) {
+    float theta_max = acos(mu_s_min);
+    mu_s = clamp(mu_s, -1.0, 1.0);
+    return mu_s >= mu_s_min ? acos(mu_s) : theta_max + (mu_s_min - mu_s) / sqrt(1.0 - mu_s_min * mu_s_min);
+}
+
 // The sun-zenith coordinate in [0, 1], unclamped below mu_s_min (for the twilight extrapolation): Bruneton's on the
 // geometry of limited_bottom_radius, (1 - SUN_ANGLE_SHARE) of it, plus SUN_ANGLE_SHARE of the sun's zenith angle
-// from its largest, acos(mu_s_min) (parameterization.py's x_mu_s_from_mu_s).
+// (sun_zenith_angle) from its largest, acos(mu_s_min) (parameterization.py's x_mu_s_from_mu_s).
 float x_mu_s_from_mu_s(float mu_s) {
     float thickness = top_radius - bottom_radius;
     float r = limited_bottom_radius();
@@ -188,7 +197,7 @@ float x_mu_s_from_mu_s(float mu_s) {
     float big_a = (max(-r * mu_s_min + safe_sqrt(disc_min), 0.0) - d_min) / (d_max - d_min);
     float theta_max = acos(mu_s_min);
     return (1.0 - SUN_ANGLE_SHARE) * (1.0 - a / big_a) / (1.0 + a)
-        + SUN_ANGLE_SHARE * (theta_max - acos(clamp(mu_s, -1.0, 1.0))) / theta_max;
+        + SUN_ANGLE_SHARE * (theta_max - sun_zenith_angle(mu_s)) / theta_max;
 }
 
 // k [1/m] of the view-zenith axis's distance coordinate for a camera at altitude a, in the ground half or the sky

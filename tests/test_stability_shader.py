@@ -130,6 +130,11 @@ def shader_property(n_examples, shading):
              sun=np.array([0.0, 0.0, 1.0]), fov=10.0)
     # CI's falsifying example: 112 m under the top looking up, the sun at the zenith; the distance to the top as
     # -r mu + sqrt(disc) in float32 read 0.67% off (common.glsl takes the stable root)
+    @example(alt=10.0 ** 0.25, up=np.array([0.0, 0.0, 1.0]), view=np.array([0.0, 0.0, 1.0]),
+             sun=np.array([0.0, 0.0, -1.0]), fov=10.0)
+    # CI's falsifying example: the night sky of a sun at the nadir, extrapolated below the tables' last sun angle;
+    # with acos(mu_s) in the sun-zenith coordinate float32's rounding of mu_s read 0.64% off
+    # (parameterization.sun_zenith_angle continues it linearly in mu_s)
     def check(scenes, alt, up, view, sun, fov):
         scene = scenes[shading]
         r = scene.atmosphere.bottom_radius_m + alt

@@ -444,6 +444,19 @@ def _bruneton_x_mu_s(mu_s, bottom, top):
     return (1.0 - a / big_a) / (1.0 + a)
 
 
+def sun_zenith_angle(mu_s):
+    """The sun's zenith angle theta_s = acos(mu_s) [rad] down to mu_s_min, continued below it along its tangent,
+    THETA_S_MAX + (MU_S_MIN - mu_s) / sin(THETA_S_MAX), linear in mu_s.
+
+    Only the twilight extrapolation reads it below mu_s_min, and it is exponential in the coordinate: acos's slope
+    is infinite at mu_s = -1, where float32's resolution of mu_s (6e-8) is 3.5e-4 rad of sun angle, and the night
+    sky of a sun near the nadir read 0.6% apart in the shaders and here; the tangent keeps the slope that of
+    mu_s_min (both continuous there)."""
+    mu_s = np.clip(mu_s, -1.0, 1.0)
+    tangent = THETA_S_MAX + (MU_S_MIN - mu_s) / np.sqrt(1.0 - MU_S_MIN * MU_S_MIN)
+    return np.where(mu_s >= MU_S_MIN, np.arccos(mu_s), tangent)
+
+
 def x_mu_s_from_mu_s(mu_s, bottom, top, clamp=True):
     """The sun-zenith coordinate in [0, 1] (0 at mu_s_min, 1 at the zenith): (1 - c) x_B + c (theta_max - theta_s) /
     theta_max, c = ``SUN_ANGLE_SHARE``, x_B Bruneton's non-linear coordinate on the geometry of
@@ -456,10 +469,10 @@ def x_mu_s_from_mu_s(mu_s, bottom, top, clamp=True):
     (benchmarks/tables_disort.py); the limit keeps at least the share a ratio of 16 gives.
 
     ``clamp=False`` lets it go negative below mu_s_min, for ``lookup.get_scattering``'s extrapolation (a
-    texture coordinate below the first texel centre would read the neighbouring nu slice)."""
-    theta_s = np.arccos(np.clip(mu_s, -1.0, 1.0))
+    texture coordinate below the first texel centre would read the neighbouring nu slice); there theta_s is
+    :func:`sun_zenith_angle`'s, continued along its tangent."""
     x = (1.0 - SUN_ANGLE_SHARE) * _bruneton_x_mu_s(mu_s, bottom, top) + \
-        SUN_ANGLE_SHARE * (THETA_S_MAX - theta_s) / THETA_S_MAX
+        SUN_ANGLE_SHARE * (THETA_S_MAX - sun_zenith_angle(mu_s)) / THETA_S_MAX
     return np.maximum(x, 0.0) if clamp else x
 
 
