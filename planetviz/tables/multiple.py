@@ -70,6 +70,23 @@ from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein, henyey_gr
 #: (``precompute.sizes_for``) on the r axis that follows the optical depth (``parameterization.r_axis``): 0.972
 #: on 32 rows of its own, 0.964 on S's 16 (``python benchmarks/energy_balance.py --balance exo-co2-thick``).
 THICK_DENSITY_ROWS = 2
+#: Where the largest vertical optical depth exceeds ``DEEP_OPTICAL_DEPTH``, the density has ``DEEP_DENSITY_ROWS``
+#: times S's rows (``density_rows``): there the light seen from the ground comes from the first unit of optical
+#: depth above it, which 32 rows on the r axis that follows the optical depth cross in about five, and the
+#: density changes faster than they follow. Random atmospheres' plane-parallel twins against DISORT
+#: (``python benchmarks/tables_disort.py --random``; vertical optical depth 8-10 at the bluest wavelength) read
+#: 2.78% -> 1.30% and 5.14% -> 3.57% RMS (100680, 100221: +6.3% / +10.6% at 440 nm from the ground with 2
+#: times) and, drawn after that, 1.76% -> 1.58%, 0.99% -> 0.45%, 1.74% -> 1.74% (100280, 100509, 100807); at
+#: optical depths 1.7-5.2 (100930, 100938, 100950, 100951, 100987, 100988) 4 times moved no atmosphere's RMS by
+#: more than 0.15 points. The precompute takes 1.2-2.3 times as long (docs/benchmarks.md). The presets (at most 4.1, the 10-bar CO2 planet) keep 2.
+DEEP_OPTICAL_DEPTH, DEEP_DENSITY_ROWS = 6.0, 4
+
+
+def density_rows(atm) -> int:
+    """How many times S's r rows the scattering density of an optically thick atmosphere has: ``DEEP_DENSITY_ROWS``
+    where the largest vertical optical depth exceeds ``DEEP_OPTICAL_DEPTH``, else ``THICK_DENSITY_ROWS``."""
+    deep = np.max(atm.vertical_optical_depth()) > DEEP_OPTICAL_DEPTH
+    return DEEP_DENSITY_ROWS if deep else THICK_DENSITY_ROWS
 
 
 def direction_quadrature(n_theta: int, n_phi: int):
@@ -642,13 +659,13 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     dirs, weights = direction_quadrature(n_theta, n_phi)
     r_axis, mu_s_axis = r[:, 0, 0, 0], mu_s[0, 0, 0, :]
     # Optically thick (vertical optical depth above 1 at some wavelength): nodes within the first attenuation
-    # lengths too, and the scattering density iterated on its own grid (THICK_DENSITY_ROWS times S's r rows)
+    # lengths too, and the scattering density iterated on its own grid (``density_rows`` times S's r rows)
     # from itself, the incident light integrated along the rays (``_Incident``).
     thick = is_optically_thick(atm)
     density_shape = shape
     along_rays = None
     if thick:
-        density_shape = (THICK_DENSITY_ROWS * shape[0],) + shape[1:]
+        density_shape = (density_rows(atm) * shape[0],) + shape[1:]
         r_axis = scattering_grid(tables, size[:3] + (density_shape[0],))[0][:, 0, 0, 0]
         along_rays = (density_shape, samples)
     if quadrature == "hemispheres":
@@ -790,7 +807,7 @@ def lobe_convolutions(atm, nu):
 
 
 class _DensityKernels:
-    """The scattering density J on its own grid (S's mu_s texels and r rows, THICK_DENSITY_ROWS times as many
+    """The scattering density J on its own grid (S's mu_s texels and r rows, ``density_rows`` times as many
     rows in a thick atmosphere), per unit density of each component: the Rayleigh-like phase
     (1 + A c^2) / (4 pi (1 + A / 3)) by moments of the incident light, Mie by renormalised kernels
     (``_mie_kernels``), the particles' part divided by F(nu) (``forward_factor``).
