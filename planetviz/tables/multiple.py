@@ -76,9 +76,11 @@ THICK_DENSITY_ROWS = 2
 #: density changes faster than they follow. Random atmospheres' plane-parallel twins against DISORT
 #: (``python benchmarks/tables_disort.py --random``; vertical optical depth 8-10 at the bluest wavelength) read
 #: 2.78% -> 1.30% and 5.14% -> 3.57% RMS (100680, 100221: +6.3% / +10.6% at 440 nm from the ground with 2
-#: times) and, drawn after that, 1.76% -> 1.58%, 0.99% -> 0.45%, 1.74% -> 1.74% (100280, 100509, 100807); at
+#: times) and, not looked at before, 1.76% -> 1.58%, 0.99% -> 0.45%, 1.74% -> 1.74%, 1.03% -> 0.97%, 2.35% ->
+#: 2.25% (100280, 100509, 100807, 100689, and random atmosphere 1 on its own planet's twin); at
 #: optical depths 1.7-5.2 (100930, 100938, 100950, 100951, 100987, 100988) 4 times moved no atmosphere's RMS by
-#: more than 0.15 points. The precompute takes 1.2-2.3 times as long (docs/benchmarks.md). The presets (at most 4.1, the 10-bar CO2 planet) keep 2.
+#: more than 0.15 points. The precompute takes 1.2-2.3 times as long (docs/benchmarks.md). The presets (at most
+#: 4.1, the 10-bar CO2 planet) keep 2.
 DEEP_OPTICAL_DEPTH, DEEP_DENSITY_ROWS = 6.0, 4
 
 
