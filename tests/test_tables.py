@@ -1,5 +1,6 @@
 """The precomputed tables: mappings, texture reads, each stage against the reference, and the CLI
 (multiple scattering in detail: tests/test_multiple_scattering.py)."""
+import functools
 import subprocess
 import sys
 from dataclasses import replace
@@ -566,12 +567,23 @@ def _channels(atm, keep):
     return type(atm).from_dict(d)
 
 
-def _against_disort(atm, other=None):
+@functools.lru_cache(maxsize=None)
+def _random_4_twin(keep=(0, 1, 2)):
+    """(atmosphere, its standard tables): random atmosphere 4 of the tuning split in its plane-parallel limit
+    (validation.disort.plane_parallel_twin) with the wavelengths of index in ``keep``. Its 3-wavelength tables take
+    about 10 minutes on one core; the module's tests share them (a module runs on one worker)."""
+    from planetviz.validation import random_atmosphere
+    from planetviz.validation.disort import plane_parallel_twin
+    atm = _channels(plane_parallel_twin(random_atmosphere(4)), list(keep))
+    return atm, precompute(atm, QUALITY["standard"])
+
+
+def _against_disort(atm, other=None, tables=None):
     """(the standard tables' relative difference from DISORT's sky of ``atm``, a plane-parallel planet, and that of
     DISORT's sky of the atmosphere ``other`` or None) (values,), over the views of ``ground_and_top_views``, the sun
-    30 and 70 deg from the zenith and the wavelengths."""
+    30 and 70 deg from the zenith and the wavelengths; ``tables`` are ``atm``'s standard tables (None: computed)."""
     from planetviz.validation.disort import disort_radiance, ground_and_top_views
-    tables = precompute(atm, QUALITY["standard"])
+    tables = precompute(atm, QUALITY["standard"]) if tables is None else tables
     views, cams, dirs = ground_and_top_views(atm)
     errors, others = [], []
     for zenith in (30.0, 70.0):
@@ -595,14 +607,12 @@ def test_an_optically_thick_forward_lobed_sky_against_disort():
     # 440 nm depth alone (nodes.split_ray_nodes), every view at 550 and 440 nm read 1-2% low (1.22% RMS). Its
     # independent ceiling: DISORT's own sky with the particles' phase made isotropic, which differs from the lobed
     # one by 12.4% RMS (p95 23%): tables that read further off than dropping the lobes altogether have regressed.
-    from planetviz.validation import random_atmosphere
     from conftest import hold_to_targets
-    from planetviz.validation.disort import plane_parallel_twin
-    atm = plane_parallel_twin(random_atmosphere(4))
+    atm, tables = _random_4_twin()
     d = atm.to_dict()
     d["mie"] = dict(d["mie"], phase={"g1": [0.0] * 3, "g2": [0.0] * 3, "alpha": [1.0] * 3})
     isotropic = type(atm).from_dict(d)
-    errors, lobe = (np.abs(e) for e in _against_disort(atm, isotropic))
+    errors, lobe = (np.abs(e) for e in _against_disort(atm, isotropic, tables))
     figures = {"rms": np.sqrt(np.mean(errors ** 2)), "p95": np.percentile(errors, 95)}
     ceilings = {"rms": np.sqrt(np.mean(lobe ** 2)), "p95": np.percentile(lobe, 95)}
     hold_to_targets(figures, {"rms": 0.01, "p95": 0.03}, [], "docs/benchmarks.md (random atmosphere 4)", ceilings)
@@ -616,10 +626,8 @@ def test_a_forward_lobe_in_optically_thick_air_meets_the_daylight_target_against
     # 0.56 with weight 0.52), against DISORT (exact within its own 0.3%), the views and suns of _against_disort.
     # With the multiple-scattering tables' 4 nu and 32 mu_s texels (precompute.sizes_for without its
     # thick_forward_lobe rule) it reads 3.1% RMS, every view 2-4% low with the sun 70 deg from the zenith.
-    from planetviz.validation import random_atmosphere
-    from planetviz.validation.disort import plane_parallel_twin
-    atm = _channels(plane_parallel_twin(random_atmosphere(4)), [2])
-    errors = np.abs(_against_disort(atm)[0])
+    atm, tables = _random_4_twin((2,))
+    errors = np.abs(_against_disort(atm, tables=tables)[0])
     assert np.sqrt(np.mean(errors ** 2)) < 0.01
     assert np.percentile(errors, 95) < 0.03
 
@@ -627,25 +635,21 @@ def test_a_forward_lobe_in_optically_thick_air_meets_the_daylight_target_against
 @pytest.mark.slow
 def test_a_wavelengths_sky_does_not_depend_on_the_other_wavelengths():
     # The wavelengths of a table scatter independently: random atmosphere 4's plane-parallel sky at 550 nm (optical
-    # depth 2.8) computed with its 440 nm channel (4.9) must read as computed alone, the views of
+    # depth 2.8) computed with its 680 nm (1.6) and 440 nm (4.9) channels must read as computed alone, the views of
     # ground_and_top_views with the sun 30 and 70 deg from the zenith. The bound is the tables' own quadrature
     # error: computed alone, the sky moves by at most 0.36% (0.26% on average) with 4 times the nodes along the
-    # rays (multiple_samples 16). What the other channel changes is where the rays through the optically thick
+    # rays (multiple_samples 16). What the other channels change is where the rays through the optically thick
     # air are split (nodes.split_ray_nodes): split at the 440 nm depth alone, the 550 nm sky read 1.0% low on
     # average, up to 1.4%.
-    from planetviz.validation import random_atmosphere
-    from planetviz.validation.disort import ground_and_top_views, plane_parallel_twin
-    atm = plane_parallel_twin(random_atmosphere(4))
+    from planetviz.validation.disort import ground_and_top_views
 
-    def channels(keep):
-        part = _channels(atm, keep)
-        tables = precompute(part, QUALITY["standard"])
-        _, cams, dirs = ground_and_top_views(part)
-        return np.array([sky_radiance(tables, part, cams, dirs, [np.sin(z), 0.0, np.cos(z)])[0][:, 0]
+    def sky(atm, tables, w):
+        _, cams, dirs = ground_and_top_views(atm)
+        return np.array([sky_radiance(tables, atm, cams, dirs, [np.sin(z), 0.0, np.cos(z)])[0][:, w]
                          for z in np.radians([30.0, 70.0])])
 
-    alone, with_440 = channels([1]), channels([1, 2])
-    assert np.max(np.abs(with_440 / alone - 1.0)) < 0.005
+    alone, with_others = sky(*_random_4_twin((1,)), 0), sky(*_random_4_twin(), 1)
+    assert np.max(np.abs(with_others / alone - 1.0)) < 0.005
 
 
 @pytest.mark.slow
