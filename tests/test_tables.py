@@ -1,6 +1,5 @@
 """The precomputed tables: mappings, texture reads, each stage against the reference, and the CLI
 (multiple scattering in detail: tests/test_multiple_scattering.py)."""
-import functools
 import subprocess
 import sys
 from dataclasses import replace
@@ -535,121 +534,6 @@ def test_the_view_zenith_axis_keeps_the_sky_on_every_planet():
         for ground in (True, False):
             assert np.all(p.distance_warp(atm.bottom_radius_m + np.array([0.0, 1e3, 5e4]), atm.bottom_radius_m,
                                           atm.top_radius_m, ground) == 0.0)
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("aerosol", [False, True])
-def test_a_large_planets_sky_meets_the_daylight_target_against_disort(aerosol):
-    # Issue 25's daylight target (RMS 1%, p95 3%) for the standard tables of Earth's Rayleigh layer (60 km, ground
-    # albedo 0.3), alone and with an absorbing aerosol of g1 = 0.85 (validation.disort.plane_parallel_atmosphere), on
-    # a planet of 1e9 m, against DISORT (PythonicDISORT, 64 streams), which is exact here within its own 0.3% (64
-    # against 128 streams, ../shared/notes/disort.md) and the planet's curvature (1e-3 at 1e8 m for these views,
-    # less at 1e9): at the ground looking up and at the top looking down, view zenith 20, 55 and 78 deg x 3
-    # azimuths, the sun 30 and 70 deg from the zenith, 3 wavelengths. With the view-zenith axis on the planet's own
-    # geometry (no distance_warp) the Rayleigh sky from the ground reads 2.8% RMS off and from the top 4.5%; with
-    # the particles' orders above the first stored over their lobe alone (multiple.forward_factor with s = 1) the
-    # aerosol's sky from the ground reads 1.7% RMS, 5.2% at most.
-    from planetviz.validation.disort import plane_parallel_atmosphere
-    atm = plane_parallel_atmosphere(aerosol, 1e9)
-    errors = np.abs(_against_disort(atm)[0])
-    assert np.sqrt(np.mean(errors ** 2)) < 0.01
-    assert np.percentile(errors, 95) < 0.03
-
-
-def _channels(atm, keep):
-    """The atmosphere ``atm`` with only the wavelengths of index in ``keep``."""
-    d = atm.to_dict()
-    pick = lambda values: [values[w] for w in keep]
-    d.update(wavelengths_nm=pick(d["wavelengths_nm"]), ground_albedo=pick(d["ground_albedo"]))
-    d["rayleigh"] = dict(d["rayleigh"], scattering_m=pick(d["rayleigh"]["scattering_m"]))
-    d["mie"] = dict(d["mie"], scattering_m=pick(d["mie"]["scattering_m"]), extinction_m=pick(d["mie"]["extinction_m"]),
-                    phase={k: pick(v) for k, v in d["mie"]["phase"].items()})
-    return type(atm).from_dict(d)
-
-
-@functools.lru_cache(maxsize=None)
-def _random_4_twin(keep=(0, 1, 2)):
-    """(atmosphere, its standard tables): random atmosphere 4 of the tuning split in its plane-parallel limit
-    (validation.disort.plane_parallel_twin) with the wavelengths of index in ``keep``. Its 3-wavelength tables take
-    about 10 minutes on one core; the module's tests share them (a module runs on one worker)."""
-    from planetviz.validation import random_atmosphere
-    from planetviz.validation.disort import plane_parallel_twin
-    atm = _channels(plane_parallel_twin(random_atmosphere(4)), list(keep))
-    return atm, precompute(atm, QUALITY["standard"])
-
-
-def _against_disort(atm, other=None, tables=None):
-    """(the standard tables' relative difference from DISORT's sky of ``atm``, a plane-parallel planet, and that of
-    DISORT's sky of the atmosphere ``other`` or None) (values,), over the views of ``ground_and_top_views``, the sun
-    30 and 70 deg from the zenith and the wavelengths; ``tables`` are ``atm``'s standard tables (None: computed)."""
-    from planetviz.validation.disort import disort_radiance, ground_and_top_views
-    tables = precompute(atm, QUALITY["standard"]) if tables is None else tables
-    views, cams, dirs = ground_and_top_views(atm)
-    errors, others = [], []
-    for zenith in (30.0, 70.0):
-        theta0 = np.radians(zenith)
-        got, _ = sky_radiance(tables, atm, cams, dirs, [np.sin(theta0), 0.0, np.cos(theta0)])
-        for w in range(atm.n_wavelengths):
-            want = disort_radiance(atm, w, np.cos(theta0), views)
-            errors.append(got[:, w] / want - 1.0)
-            if other is not None:
-                others.append(disort_radiance(other, w, np.cos(theta0), views) / want - 1.0)
-    return np.concatenate(errors), np.concatenate(others) if others else None
-
-
-@pytest.mark.slow
-def test_an_optically_thick_forward_lobed_sky_against_disort():
-    # The daylight target (RMS 1%, p95 3%) on random atmosphere 4 of the tuning split without its absorbing layer,
-    # on a planet of 1e9 m: optical depth 1.6 / 2.8 / 4.9 at 680 / 550 / 440 nm, particles that scatter backward at
-    # 680 nm and forward (g 0.56-0.65) at the others, ground albedo 0.74-0.94. DISORT (64 streams, exact here within
-    # its own 0.3%, ../shared/notes/disort.md) at the ground looking up and at the top looking down, the views of
-    # ground_and_top_views, the sun 30 and 70 deg from the zenith. With the rays through the thick air split at the
-    # 440 nm depth alone (nodes.split_ray_nodes), every view at 550 and 440 nm read 1-2% low (1.22% RMS). Its
-    # independent ceiling: DISORT's own sky with the particles' phase made isotropic, which differs from the lobed
-    # one by 12.4% RMS (p95 23%): tables that read further off than dropping the lobes altogether have regressed.
-    from conftest import hold_to_targets
-    atm, tables = _random_4_twin()
-    d = atm.to_dict()
-    d["mie"] = dict(d["mie"], phase={"g1": [0.0] * 3, "g2": [0.0] * 3, "alpha": [1.0] * 3})
-    isotropic = type(atm).from_dict(d)
-    errors, lobe = (np.abs(e) for e in _against_disort(atm, isotropic, tables))
-    figures = {"rms": np.sqrt(np.mean(errors ** 2)), "p95": np.percentile(errors, 95)}
-    ceilings = {"rms": np.sqrt(np.mean(lobe ** 2)), "p95": np.percentile(lobe, 95)}
-    hold_to_targets(figures, {"rms": 0.01, "p95": 0.03}, [], "docs/benchmarks.md (random atmosphere 4)", ceilings)
-
-
-@pytest.mark.slow
-def test_a_forward_lobe_in_optically_thick_air_meets_the_daylight_target_against_disort():
-    # The daylight target (RMS 1%, p95 3%) where a moderate forward lobe shapes the multiply scattered light though
-    # the particles hold under half the scattering: random atmosphere 4's 440 nm channel alone in its
-    # plane-parallel limit (optical depth 4.9; the particles' scattering optical depth 2.4, their share 0.47, g1 =
-    # 0.56 with weight 0.52), against DISORT (exact within its own 0.3%), the views and suns of _against_disort.
-    # With the multiple-scattering tables' 4 nu and 32 mu_s texels (precompute.sizes_for without its
-    # thick_forward_lobe rule) it reads 3.1% RMS, every view 2-4% low with the sun 70 deg from the zenith.
-    atm, tables = _random_4_twin((2,))
-    errors = np.abs(_against_disort(atm, tables=tables)[0])
-    assert np.sqrt(np.mean(errors ** 2)) < 0.01
-    assert np.percentile(errors, 95) < 0.03
-
-
-@pytest.mark.slow
-def test_a_wavelengths_sky_does_not_depend_on_the_other_wavelengths():
-    # The wavelengths of a table scatter independently: random atmosphere 4's plane-parallel sky at 550 nm (optical
-    # depth 2.8) computed with its 680 nm (1.6) and 440 nm (4.9) channels must read as computed alone, the views of
-    # ground_and_top_views with the sun 30 and 70 deg from the zenith. The bound is the tables' own quadrature
-    # error: computed alone, the sky moves by at most 0.36% (0.26% on average) with 4 times the nodes along the
-    # rays (multiple_samples 16). What the other channels change is where the rays through the optically thick
-    # air are split (nodes.split_ray_nodes): split at the 440 nm depth alone, the 550 nm sky read 1.0% low on
-    # average, up to 1.4%.
-    from planetviz.validation.disort import ground_and_top_views
-
-    def sky(atm, tables, w):
-        _, cams, dirs = ground_and_top_views(atm)
-        return np.array([sky_radiance(tables, atm, cams, dirs, [np.sin(z), 0.0, np.cos(z)])[0][:, w]
-                         for z in np.radians([30.0, 70.0])])
-
-    alone, with_others = sky(*_random_4_twin((1,)), 0), sky(*_random_4_twin(), 1)
-    assert np.max(np.abs(with_others / alone - 1.0)) < 0.005
 
 
 @pytest.mark.slow

@@ -69,7 +69,7 @@ def split_ray_nodes(atm, r, mu, d, n, depth=3.0, fine=64):
     Gauss-Legendre rule over the whole ray puts its first nodes kilometres apart. The second split keeps the
     more transparent wavelengths' first attenuation lengths off a segment that runs to the end of a long ray:
     split at the first wavelength's depth alone (two segments of n per side, as many nodes), random atmosphere
-    4's sky at 550 nm reads 1.0% below the same sky computed without its 440 nm channel (tests/test_tables.py).
+    4's sky at 550 nm reads 1.0% below the same sky computed without its 440 nm channel (tests/test_tables_disort.py).
     """
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
     ends = (np.zeros_like(d),) + split_distances(atm, r, mu, d, depth, fine) + (d,)
