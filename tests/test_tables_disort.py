@@ -53,8 +53,8 @@ def _random_4_twin(keep=(0, 1, 2)):
 
 def _against_disort(atm, other=None, tables=None):
     """(the standard tables' relative difference from DISORT's sky of ``atm``, a plane-parallel planet, and that of
-    DISORT's sky of the atmosphere ``other`` or None) (values,), over the views of ``ground_and_top_views``, the sun
-    30 and 70 deg from the zenith and the wavelengths; ``tables`` are ``atm``'s standard tables (None: computed)."""
+    DISORT's sky of the atmosphere ``other`` or None) (2, W, views): the sun 30 and 70 deg from the zenith, the
+    wavelengths, the views of ``ground_and_top_views``; ``tables`` are ``atm``'s standard tables (None: computed)."""
     from planetviz.validation.disort import disort_radiance, ground_and_top_views
     tables = precompute(atm, QUALITY["standard"]) if tables is None else tables
     views, cams, dirs = ground_and_top_views(atm)
@@ -67,7 +67,8 @@ def _against_disort(atm, other=None, tables=None):
             errors.append(got[:, w] / want - 1.0)
             if other is not None:
                 others.append(disort_radiance(other, w, np.cos(theta0), views) / want - 1.0)
-    return np.concatenate(errors), np.concatenate(others) if others else None
+    shape = (2, atm.n_wavelengths, -1)
+    return np.reshape(errors, shape), np.reshape(others, shape) if others else None
 
 
 @pytest.mark.slow
@@ -94,13 +95,13 @@ def test_an_optically_thick_forward_lobed_sky_against_disort():
 @pytest.mark.slow
 def test_a_forward_lobe_in_optically_thick_air_meets_the_daylight_target_against_disort():
     # The daylight target (RMS 1%, p95 3%) where a moderate forward lobe shapes the multiply scattered light though
-    # the particles hold under half the scattering: random atmosphere 4's 440 nm channel alone in its
-    # plane-parallel limit (optical depth 4.9; the particles' scattering optical depth 2.4, their share 0.47, g1 =
-    # 0.56 with weight 0.52), against DISORT (exact within its own 0.3%), the views and suns of _against_disort.
-    # With the multiple-scattering tables' 4 nu and 32 mu_s texels (precompute.sizes_for without its
-    # thick_forward_lobe rule) it reads 3.1% RMS, every view 2-4% low with the sun 70 deg from the zenith.
-    atm, tables = _random_4_twin((2,))
-    errors = np.abs(_against_disort(atm, tables=tables)[0])
+    # the particles hold under half the scattering: random atmosphere 4's 440 nm channel in its plane-parallel
+    # limit (optical depth 4.9; the particles' scattering optical depth 2.4, their share 0.47, g1 = 0.56 with weight
+    # 0.52), against DISORT (exact within its own 0.3%), the views and suns of _against_disort. With the
+    # multiple-scattering tables' 4 nu and 32 mu_s texels (precompute.sizes_for without its thick_forward_lobe
+    # rule) it reads 3.4% RMS (p95 6.2%), every view low, from the ground 5-7% with the sun 70 deg from the zenith.
+    atm, tables = _random_4_twin()
+    errors = np.abs(_against_disort(atm, tables=tables)[0][:, 2])
     assert np.sqrt(np.mean(errors ** 2)) < 0.01
     assert np.percentile(errors, 95) < 0.03
 
