@@ -27,7 +27,7 @@ def pytest_sessionfinish(session, exitstatus):
 
 
 #: The modules whose slow-marked tests take longest (seconds on the 2-core CI machine, scripts/test.sh's slow run):
-#: test_tables_disort 950, test_reference_slow 550, test_tables 250, test_multiple_scattering 220; every other
+#: test_tables_disort 850, test_reference_slow 550, test_tables 250, test_multiple_scattering 220; every other
 #: module's under 160.
 SLOWEST_MODULES = ("test_tables_disort.py", "test_reference_slow.py", "test_tables.py", "test_multiple_scattering.py")
 
