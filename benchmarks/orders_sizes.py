@@ -44,7 +44,7 @@ def main():
     for name, change in variants(sizes_for(atm, QUALITY["standard"])).items():
         level = replace(QUALITY["standard"], **change)
         sizes = sizes_for(atm, level)
-        two = first_two_orders(precompute(atm, level), atm, sizes)
+        two = first_two_orders(precompute(atm, level, multiple=False), atm, sizes)
         got, _ = sky_radiance(two, atm, cams, views, suns)
         print(f"{name:18s}", row([[f"{x:+.3f}" for x in e] for e in got / ref.radiance - 1.0]), flush=True)
     print(f"{'noise':18s}", row([[f"{x:.3f}" for x in e] for e in ref.stderr / ref.radiance]))

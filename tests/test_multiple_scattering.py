@@ -322,8 +322,7 @@ def test_first_two_orders_inside_an_optically_thick_large_planet():
     seed = 1
     atm = random_atmosphere(seed)
     sizes = sizes_for(atm, QUALITY["standard"])
-    tables = precompute(atm, QUALITY["standard"])
-    two = first_two_orders(tables, atm, sizes)
+    two = first_two_orders(precompute(atm, QUALITY["standard"], multiple=False), atm, sizes)
     cams, views, suns = (np.concatenate(x) for x in zip(*[rays(atm, seed, c, "day", n=2) for c in CAMERAS]))
     ref = stored_reference(REFERENCE_DATA / "orders", f"random-{seed}-day", atm, cams, views, suns, samples=16384,
                            seed=seed + 11, max_order=2)
@@ -475,7 +474,7 @@ def test_first_two_orders_from_the_ground_along_the_horizon_of_large_planets(see
     from planetviz.validation.random_suite import random_atmosphere
     atm = random_atmosphere(seed)
     sizes = sizes_for(atm, QUALITY["standard"])
-    two = first_two_orders(precompute(atm, QUALITY["standard"]), atm, sizes)
+    two = first_two_orders(precompute(atm, QUALITY["standard"], multiple=False), atm, sizes)
     cams, views, suns = (np.concatenate(x) for x in zip(*[rays(atm, seed, c, "day", n=2) for c in CAMERAS]))
     ref = stored_reference(REFERENCE_DATA / "orders", f"random-{seed}-day", atm, cams, views, suns, samples=16384,
                            seed=seed + 11, max_order=2)

@@ -98,10 +98,11 @@ def test_error_bars_are_honest_on_random_atmospheres():
 def test_the_errors_of_different_rays_are_independent():
     # A sum over rays (an irradiance, a flux, a picture's mean) takes its standard error as the root sum of squares
     # of the rays' standard errors, which holds only if different rays' errors are independent. Earth, 16 views
-    # 30 deg up all round the horizon from the ground, 10 independent runs of 2048 paths: the variance of the sum
+    # 30 deg up all round the horizon from the ground, 10 independent runs of 512 paths: the variance of the sum
     # over the runs against its stated variance (the mean of the runs' sums of squared standard errors), averaged
     # over the 3 wavelengths (27 degrees of freedom: for independent errors the ratio is 1, above 2 with
-    # probability ~0.002). Rays sharing their Sobol' sets unshifted err together: that ratio was 3.9.
+    # probability ~0.002). Rays sharing their Sobol' sets unshifted err together: over three sets of 10 seeds that
+    # ratio was 3.4, 3.8 and 6.3 (the shifted sets' 0.93, 1.20 and 1.19).
     atm = load_atmosphere("earth")
     n = 16
     az = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
@@ -109,7 +110,7 @@ def test_the_errors_of_different_rays_are_independent():
     views = np.stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.full(n, np.sin(el))], axis=1)
     cams = np.tile([0.0, 0.0, atm.bottom_radius_m + 2.0], (n, 1))
     sun = np.array([np.cos(np.radians(20.0)), 0.0, np.sin(np.radians(20.0))])
-    runs = [solve(atm, cams, views, sun, samples=2048, seed=seed) for seed in range(10)]
+    runs = [solve(atm, cams, views, sun, samples=512, seed=seed) for seed in range(10)]
     sums = np.array([r.radiance.sum(axis=0) for r in runs])
     stated = np.mean([(r.stderr ** 2).sum(axis=0) for r in runs], axis=0)
     ratio = np.mean(sums.var(axis=0, ddof=1) / stated)
