@@ -35,12 +35,13 @@ S_n is radiance (phase included) and accumulates into two tables, the light last
 and that last scattered by particles divided by ``forward_factor`` (with the particles' part of J), so
 that a sharp forward lobe leaves a slowly varying table, both divided by the ray's ``lookup.ray_opacity``
 as the single-scattering tables are; E accumulates into the irradiance table, and J on its top row, views upward,
-into the top tables (:func:`top_source`). Orders
-stop when the tail estimated from the ratio q of the last two orders, S_n q / (1 - q), is below
-``tolerance`` of the total (both for scattering and irradiance), or at ``max_orders``; either way, with
-``tolerance`` > 0, the tail is added (``geometric_tail``; with ``tolerance`` = 0 the sum is exactly the orders
-up to ``max_orders``): the tail is below ``tolerance`` of the whole table when the orders stop, not everywhere in
-it (near the ground of an optically thick atmosphere the orders fall more slowly; docs/tables.md measures it).
+into the top tables (:func:`top_source`). With ``tolerance`` > 0 the orders stop at the first of: the tail
+estimated from the ratio q of the last two orders, S_n q / (1 - q), below ``tolerance`` of the total (both for
+scattering and irradiance; the tail is then added, ``geometric_tail``: where the orders fall fast, as on Earth),
+or the estimated largest relative error of every order's sum by reduced rank extrapolation below ``tolerance``
+at every wavelength (``extrapolation.OrderSum``; that sum is then the tables': where the orders fall slowly, in
+optically thick atmospheres), or ``max_orders`` (the extrapolated sum). With ``tolerance`` = 0 the sum is
+exactly the orders up to ``max_orders``.
 """
 from __future__ import annotations
 
@@ -49,6 +50,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .extrapolation import OrderSum
 from .lookup import (EMPTY_RAY_OPACITY, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
                      get_transmittance_to_sun, ground_row_factor, ray_opacity)
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, depth_distance, integration_grid, is_optically_thick,
@@ -70,6 +72,8 @@ from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein, henyey_gr
 #: (``precompute.sizes_for``) on the r axis that follows the optical depth (``parameterization.r_axis``): 0.972
 #: on 32 rows of its own, 0.964 on S's 16 (``python benchmarks/energy_balance.py --balance exo-co2-thick``).
 THICK_DENSITY_ROWS = 2
+#: The first order after which the orders' sum may be taken by reduced rank extrapolation (``OrderSum``).
+RRE_FIRST_ORDER = 4
 #: Where the largest vertical optical depth exceeds ``DEEP_OPTICAL_DEPTH``, the density has ``DEEP_DENSITY_ROWS``
 #: times S's rows (``density_rows``): there the light seen from the ground comes from the first unit of optical
 #: depth above it, which 32 rows on the r axis that follows the optical depth cross in about five, and the
@@ -613,10 +617,8 @@ def density_grid(mu_s, n_mu, n_nu):
 def geometric_tail(now, before, q_max=0.99):
     """q / (1 - q) per channel (the last axis), q = sum(now) / sum(before) over the other axes (at most
     ``q_max``): the sum of every order after ``now`` if each is q times the one before, as the orders become once
-    their angular and vertical shape has settled (many orders into an optically thick atmosphere). The 10-bar
-    CO2 planet made conservative over a white ground needs 135 orders at tolerance 3e-3; cut at the cap of 64
-    its upward flux at the top read 0.873 at 440 nm against 0.924 with all 135 and 0.929 with this tail (the
-    multiple-scattering table at 8 r rows; the reference solver: 0.974; benchmarks/energy_balance.py)."""
+    their angular and vertical shape has settled. Added where the orders stop by this tail (they fall fast);
+    where they fall slowly the sum is extrapolated instead (``extrapolation.OrderSum``)."""
     axes = tuple(range(now.ndim - 1))
     q = np.clip(now.sum(axes) / np.maximum(before.sum(axes), 1e-300), 0.0, q_max)
     return q / (1.0 - q)
@@ -644,8 +646,9 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     (``_DensityKernels``); the integration paths of S's texels (``_ray_paths``); then order by order the incident
     light of the order before, the scattering density J (``_DensityKernels.density``), S integrated along the
     texels' rays, the irradiance, J on its top row for upward views, until the geometric tail of the orders is below
-    ``tolerance`` of the total (or at ``max_orders``, where the tail is added); the top row's J as the top tables
-    (:func:`top_source`).
+    ``tolerance`` of the total (that tail added), or every order's extrapolated sum (``extrapolation.OrderSum``)
+    is within ``tolerance`` at every texel, or at ``max_orders`` (the extrapolated sum); the top row's J as the
+    top tables (:func:`top_source`).
 
     ``quadrature``: the incident light's directions at the density's points (``QUADRATURES``), ``"hemispheres"``
     (``direction_quadrature``, the same at every point), ``"horizon"`` (``horizon_quadrature``, split at each row's
@@ -706,6 +709,8 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     ms_prev = irr_prev = J_prev = None
     last = None
     order = 1
+    orders = OrderSum(W) if tolerance > 0 else None
+    extrapolate = False
     for order in range(2, max_orders + 1):
         L, particles = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev, J_prev)  # (n_r, n_mu_s, K + 1, W)
         sigma_sun = particles[..., -1, :] / lobe_at_sun[order > 2]
@@ -723,15 +728,24 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
         ms_prev, irr_prev, J_prev = S, e, J
         size_now = (S[..., :W] + forward * S[..., W:]).sum()
         done = (total[..., :W] + forward * total[..., W:]).sum()
+        if orders is not None:
+            orders.add(S, e, J[-1, :upward])
         if last is not None and last > 0:
             q = min(size_now / last, 0.999)
             if size_now * q / (1 - q) < tolerance * done and \
                     e.sum() * q / (1 - q) < tolerance * max(irradiance.sum(), 1e-300):
                 break
+            if orders is not None and order >= RRE_FIRST_ORDER and np.all(orders.error(below=tolerance) < tolerance):
+                extrapolate = True
+                break
         if progress and done > 0:
             progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / done))
         last = size_now
-    if tolerance > 0 and order > 2:          # the orders after the last, as a geometric series
+    else:
+        extrapolate = orders is not None and order >= RRE_FIRST_ORDER
+    if extrapolate:                          # every order's sum by reduced rank extrapolation
+        total, irradiance, top_total = orders.sum()
+    elif tolerance > 0 and order > 2:        # the orders after the last, as a geometric series
         tail = geometric_tail(ms_prev, before[0])
         total += ms_prev * tail
         top_total += J_prev[-1, :upward] * tail
