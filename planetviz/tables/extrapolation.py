@@ -37,7 +37,8 @@ class OrderSum:
 
     def __init__(self, n_wavelengths, seed=0):
         self.W = n_wavelengths
-        self.orders = []                   # per order: (S float32, E, top float32)
+        self.orders = []                   # per order: (S per wavelength (W, texels) float32, E, top float32)
+        self.shape = None                  # S's shape
         self.sketch = None                 # (W, n, capacity): the orders' S on the sketched texels
         self.sums = []                     # per order: S summed per wavelength (W,)
         self.partial = None                # T_k of S, float64
@@ -54,7 +55,7 @@ class OrderSum:
         if self.picks is None:
             size = 2 * S[..., 0].size
             self.picks = np.sort(self.rng.choice(size, SKETCH, replace=False)) if size > SKETCH else np.arange(size)
-        channels = [self._channel(S, w) for w in range(self.W)]
+        channels = np.stack([self._channel(S, w) for w in range(self.W)]).astype(np.float32)     # (W, texels)
         k = len(self.orders)
         if self.sketch is None or k == self.sketch.shape[-1]:
             grown = np.empty((self.W, len(self.picks), 2 * k + 8))
@@ -62,8 +63,9 @@ class OrderSum:
                 grown[..., :k] = self.sketch
             self.sketch = grown
         self.sketch[..., k] = [c[self.picks] for c in channels]
-        self.sums.append(np.array([c.sum(dtype=np.float64) for c in channels]))
-        self.orders.append((S.astype(np.float32), np.array(E, np.float64), top.astype(np.float32)))
+        self.sums.append(channels.sum(axis=1, dtype=np.float64))
+        self.shape = S.shape
+        self.orders.append((channels, np.array(E, np.float64), top.astype(np.float32)))
         self.partial = S.astype(np.float64) if self.partial is None else self.partial + S
         self.gamma = None
 
@@ -88,8 +90,8 @@ class OrderSum:
             if below is not None and error[w] >= below:
                 continue
             residual = np.zeros_like(total)
-            for gj, (S, _, _) in zip(g, self.orders):
-                residual += gj * self._channel(S, w)
+            for gj, (channels, _, _) in zip(g, self.orders):
+                residual += gj * channels[w]
             error[w] = np.abs(residual * weight).max() * per_residual
         return gamma, error
 
@@ -105,9 +107,13 @@ class OrderSum:
             self.gamma = self._solve()[0]
         # sum_j gamma_j T_j = sum_i x_i c_i with c_i = sum_{j >= i} gamma_j
         c = np.cumsum(self.gamma[:, ::-1], axis=1)[:, ::-1]                # (W, k + 1)
-        c2 = np.concatenate([c, c])                                         # both halves of S and top
-        out = [np.zeros(part.shape, np.float64) for part in self.orders[0]]
-        for i, parts in enumerate(self.orders):
-            for o, part, ci in zip(out, parts, (c2[:, i], c[:, i], c2[:, i])):
-                o += part * ci
-        return tuple(np.maximum(o, 0.0) for o in out)
+        c2 = np.concatenate([c, c])                                         # both halves of top
+        channels = np.zeros(self.orders[0][0].shape)
+        E, top = (np.zeros(part.shape) for part in self.orders[0][1:])
+        for i, (x, e, t) in enumerate(self.orders):
+            channels += x * c[:, i, None]
+            E += e * c[:, i]
+            top += t * c2[:, i]
+        n = channels.shape[1] // 2
+        S = np.concatenate([channels[:, :n].T, channels[:, n:].T], 1).reshape(self.shape)
+        return tuple(np.maximum(o, 0.0) for o in (S, E, top))
