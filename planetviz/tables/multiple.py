@@ -636,7 +636,7 @@ class MultipleScattering(NamedTuple):
 
 
 def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tolerance=1e-3, max_orders=64,
-                        progress=None, quadrature="hemispheres") -> MultipleScattering:
+                        progress=None, quadrature="hemispheres", extrapolate=True) -> MultipleScattering:
     """The orders >= 2 (:class:`MultipleScattering`): tables (n_r, n_mu, n_nu, n_mu_s, W) of light last scattered by
     molecules and by particles, the latter divided by ``forward_factor``; indirect irradiance; highest order used;
     the top tables of upward views (:func:`top_source`).
@@ -654,7 +654,8 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     (``direction_quadrature``, the same at every point), ``"horizon"`` (``horizon_quadrature``, split at each row's
     horizon) or ``"lit-band"`` (``lit_band_quadrature``, on the band of lit air seen from the planet's shadow: the
     quality levels', which the precompute passes as ``TableSizes.quadrature``); benchmarks/tables_orders.py compares
-    them.
+    them. ``extrapolate``: False stops the orders by their geometric tail or ``max_orders`` alone, the tail added
+    (benchmarks/orders_sum.py compares them).
     """
     if quadrature not in QUADRATURES:
         raise ValueError(f"quadrature must be one of {tuple(QUADRATURES)}, got {quadrature!r}")
@@ -709,8 +710,8 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     ms_prev = irr_prev = J_prev = None
     last = None
     order = 1
-    orders = OrderSum(W) if tolerance > 0 else None
-    extrapolate = False
+    orders = OrderSum(W) if tolerance > 0 and extrapolate else None
+    extrapolated = False
     for order in range(2, max_orders + 1):
         L, particles = incident.radiance(tables, atm, order - 1, ms_prev, irr_prev, J_prev)  # (n_r, n_mu_s, K + 1, W)
         sigma_sun = particles[..., -1, :] / lobe_at_sun[order > 2]
@@ -736,14 +737,14 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
                     e.sum() * q / (1 - q) < tolerance * max(irradiance.sum(), 1e-300):
                 break
             if orders is not None and order >= RRE_FIRST_ORDER and np.all(orders.error(below=tolerance) < tolerance):
-                extrapolate = True
+                extrapolated = True
                 break
         if progress and done > 0:
             progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / done))
         last = size_now
     else:
-        extrapolate = orders is not None and order >= RRE_FIRST_ORDER
-    if extrapolate:                          # every order's sum by reduced rank extrapolation
+        extrapolated = orders is not None and order >= RRE_FIRST_ORDER
+    if extrapolated:                          # every order's sum by reduced rank extrapolation
         total, irradiance, top_total = orders.sum()
     elif tolerance > 0 and order > 2:        # the orders after the last, as a geometric series
         tail = geometric_tail(ms_prev, before[0])
