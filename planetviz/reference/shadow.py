@@ -36,8 +36,8 @@ def shadow_interval(x, d, s, radius):
     safe_a = np.where(has_roots, a_q, 1.0)
     lo = np.where(has_roots, (-b_q - sq) / safe_a, np.where(parallel & (c_q < 0.0), -inf, inf))
     hi = np.where(has_roots, (-b_q + sq) / safe_a, np.where(parallel & (c_q < 0.0), inf, -inf))
-    # The half-space behind the planet.
-    with np.errstate(divide="ignore", invalid="ignore"):
+    # The half-space behind the planet; where ds is subnormal -xs / ds overflows to +-inf, its limit.
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         t0 = np.where(ds != 0.0, -xs / np.where(ds != 0.0, ds, 1.0), 0.0)
     behind_lo = np.where(ds > 0.0, -inf, np.where(ds < 0.0, t0, np.where(xs < 0.0, -inf, inf)))
     behind_hi = np.where(ds > 0.0, t0, np.where(ds < 0.0, inf, np.where(xs < 0.0, inf, -inf)))
