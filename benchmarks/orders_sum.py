@@ -58,7 +58,7 @@ def main():
 
         plain, n, seconds = orders(tolerance=0.0, max_orders=args.orders,
                                    progress=lambda stage, done: shares.append(1.0 - done))
-        q = shares[-2] / shares[-3]
+        q = shares[-2] / shares[-3] if shares[-3] > 0.0 else 0.0      # 0: the orders fell below float64's step
         axes = tuple(range(plain.ndim - 1))
         bright = plain > 1e-3 * plain.max(axis=axes)
         print(f"| {name} | plain sum | {n} | {seconds:.1f} | remainder {shares[-2] * q / (1 - q):.1e} | |", flush=True)

@@ -42,7 +42,7 @@ class OrderSum:
         self.shape = None                  # S's shape
         self.sketch = None                 # (W, n, capacity): the orders' S on the sketched texels
         self.sums = []                     # per order: S summed per wavelength (W,)
-        self.partial = None                # T_k of S, float64
+        self.partial = None                # T_k of S per wavelength (W, texels), float64
         self.rng = np.random.default_rng(seed)
         self.picks = None
         self.gamma = None
@@ -67,7 +67,7 @@ class OrderSum:
         self.sums.append(channels.sum(axis=1, dtype=np.float64))
         self.shape = S.shape
         self.orders.append((channels, np.array(E, np.float64), top.astype(np.float32)))
-        self.partial = S.astype(np.float64) if self.partial is None else self.partial + S
+        self.partial = channels.astype(np.float64) if self.partial is None else self.partial + channels
         self.gamma = None
 
     def _solve(self, below=None):
@@ -76,12 +76,12 @@ class OrderSum:
         k1 = len(self.orders)
         gamma, error = np.zeros((self.W, k1)), np.zeros(self.W)
         for w in range(self.W):
-            total = self._channel(self.partial, w)
+            total = self.partial[w]
             if not total.max() > 0.0:               # nothing scatters at this wavelength: the sum is the partial sum
                 gamma[w, -1] = 1.0
                 continue
-            weight = 1.0 / np.maximum(total, FLOOR * total.max())
-            U = self.sketch[w, :, :k1] * weight[self.picks, None]
+            floor = FLOOR * total.max()
+            U = self.sketch[w, :, :k1] / np.maximum(total[self.picks], floor)[:, None]
             y = np.linalg.lstsq(U.T @ U, np.ones(k1), rcond=1e-15)[0]
             gamma[w] = g = y / y.sum() if y.sum() != 0.0 else np.eye(k1)[-1]
             last, before = self.sums[-1][w], self.sums[-2][w] if k1 > 1 else 0.0
@@ -93,7 +93,7 @@ class OrderSum:
             residual = np.zeros_like(total)
             for gj, (channels, _, _) in zip(g, self.orders):
                 residual += gj * channels[w]
-            error[w] = np.abs(residual * weight).max() * per_residual
+            error[w] = np.abs(residual / np.maximum(total, floor)).max() * per_residual
         return gamma, error
 
     def error(self, below=None):
