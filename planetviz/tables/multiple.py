@@ -35,13 +35,16 @@ S_n is radiance (phase included) and accumulates into two tables, the light last
 and that last scattered by particles divided by ``forward_factor`` (with the particles' part of J), so
 that a sharp forward lobe leaves a slowly varying table, both divided by the ray's ``lookup.ray_opacity``
 as the single-scattering tables are; E accumulates into the irradiance table, and J on its top row, views upward,
-into the top tables (:func:`top_source`). With ``tolerance`` > 0 the orders stop at the first of: the tail
-estimated from the ratio q of the last two orders, S_n q / (1 - q), below ``tolerance`` of the total (both for
-scattering and irradiance; the tail is then added, ``geometric_tail``: where the orders fall fast, as on Earth),
-or the estimated largest relative error of every order's sum by reduced rank extrapolation below ``tolerance``
-at every wavelength (``extrapolation.OrderSum``; that sum is then the tables': where the orders fall slowly, in
-optically thick atmospheres), or ``max_orders`` (the extrapolated sum). With ``tolerance`` = 0 the sum is
-exactly the orders up to ``max_orders``.
+into the top tables (:func:`top_source`). With ``tolerance`` > 0 the orders stop, from order
+``RRE_FIRST_ORDER`` on, where the estimated largest relative error of every order's sum by reduced rank
+extrapolation is below ``tolerance`` at every wavelength (``extrapolation.OrderSum``; that sum is then the
+tables'), or at ``max_orders`` (the extrapolated sum); before it, where the tail estimated from the ratio q of the
+last two orders, S_n q / (1 - q), is below ``tolerance`` of the total (both for scattering and irradiance; the
+tail is then added, ``geometric_tail``: the orders of a thin atmosphere, which fall by its optical depth each). The
+geometric tail alone does not stop later orders: it holds only once the orders' shape has settled, and where their
+ratio still rises it stops them early (Mars at the standard level: 9 orders, texels 2% off the converged sum,
+against 11 orders and 0.01% extrapolated). With ``tolerance`` = 0 the sum is exactly the orders up to
+``max_orders``.
 """
 from __future__ import annotations
 
@@ -645,10 +648,10 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
     misses) and the irradiance's (``_Incident``); the scattering density's grid and phase kernels
     (``_DensityKernels``); the integration paths of S's texels (``_ray_paths``); then order by order the incident
     light of the order before, the scattering density J (``_DensityKernels.density``), S integrated along the
-    texels' rays, the irradiance, J on its top row for upward views, until the geometric tail of the orders is below
-    ``tolerance`` of the total (that tail added), or every order's extrapolated sum (``extrapolation.OrderSum``)
-    is within ``tolerance`` at every texel, or at ``max_orders`` (the extrapolated sum); the top row's J as the
-    top tables (:func:`top_source`).
+    texels' rays, the irradiance, J on its top row for upward views, until every order's extrapolated sum
+    (``extrapolation.OrderSum``) is within ``tolerance`` at every texel (from order ``RRE_FIRST_ORDER``; before
+    it, until the geometric tail of the orders is below ``tolerance`` of the total, that tail added), or at
+    ``max_orders`` (the extrapolated sum); the top row's J as the top tables (:func:`top_source`).
 
     ``quadrature``: the incident light's directions at the density's points (``QUADRATURES``), ``"hemispheres"``
     (``direction_quadrature``, the same at every point), ``"horizon"`` (``horizon_quadrature``, split at each row's
@@ -733,11 +736,12 @@ def multiple_scattering(tables, atm, size, n_theta=16, n_phi=16, samples=8, tole
             orders.add(S, e, J[-1, :upward])
         if last is not None and last > 0:
             q = min(size_now / last, 0.999)
-            if size_now * q / (1 - q) < tolerance * done and \
+            if orders is not None and order >= RRE_FIRST_ORDER:
+                if np.all(orders.error(below=tolerance) < tolerance):
+                    extrapolated = True
+                    break
+            elif size_now * q / (1 - q) < tolerance * done and \
                     e.sum() * q / (1 - q) < tolerance * max(irradiance.sum(), 1e-300):
-                break
-            if orders is not None and order >= RRE_FIRST_ORDER and np.all(orders.error(below=tolerance) < tolerance):
-                extrapolated = True
                 break
         if progress and done > 0:
             progress(f"multiple scattering, order {order}", min(1.0, 1.0 - size_now / done))
