@@ -362,6 +362,26 @@ def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_and_mu_s_texels_in_the
         assert sizes_for(EARTH, QUALITY[level]) == QUALITY[level]
 
 
+def _orders_sum(single, atm, sizes, tolerance, max_orders, quadrature=None):
+    """The multiple-scattering stage at ``sizes`` (its quadrature of J's directions, or ``quadrature``): (S of both components on the last axis, the irradiance, the
+    orders taken, the plain sum's remainder: the last order's geometric tail over the sum, from the stage's
+    progress, which reports 1 - each order's share of the sum so far)."""
+    from planetviz.tables.multiple import multiple_scattering
+    shares = []
+    out = multiple_scattering(single, atm, sizes.multiple, *sizes.directions, samples=sizes.multiple_samples,
+                              quadrature=quadrature or sizes.quadrature, tolerance=tolerance, max_orders=max_orders,
+                              progress=lambda stage, done: shares.append(1.0 - done))
+    q = shares[-2] / shares[-3]            # shares[-1]: the stage's last call, done
+    return (np.concatenate([out.multiple, out.multiple_mie], -1), out.irradiance, out.orders,
+            shares[-2] * q / (1.0 - q))
+
+
+def _largest_error(got, want):
+    """The largest relative error of ``got`` over the texels of ``want`` above 1e-3 of their wavelength's largest."""
+    bright = want > 1e-3 * want.max(axis=tuple(range(want.ndim - 1)))
+    return np.max(np.abs(got[bright] / want[bright] - 1.0))
+
+
 @pytest.mark.slow
 def test_the_sum_of_every_order_is_extrapolated_from_the_first_ones():
     # The 10-bar CO2 planet with nothing absorbed over a white ground converges only after about 250 orders at draft
@@ -372,32 +392,16 @@ def test_the_sum_of_every_order_is_extrapolated_from_the_first_ones():
     # is checked below 1e-3, to 1% (the tolerance; measured 0.16% at 32 orders, 0.14% stopped after 34). Cut at
     # 32 the last order's geometric tail (multiple.geometric_tail) reads up to 8.0% off and the orders alone 46%,
     # which fail.
-    from planetviz.tables.multiple import multiple_scattering
     from planetviz.validation import conservative_atmosphere
     atm = conservative_atmosphere(preset="exo-co2-thick")
     draft = QUALITY["draft"]
     single = precompute(atm, draft, multiple=False)
-
-    shares = []                 # each order's share of the sum so far (the stage's progress: 1 - that share)
-
-    def orders(tolerance, max_orders):
-        out = multiple_scattering(single, atm, draft.multiple, *draft.directions, samples=draft.multiple_samples,
-                                  tolerance=tolerance, max_orders=max_orders,
-                                  progress=lambda stage, done: shares.append(1.0 - done))
-        return np.concatenate([out.multiple, out.multiple_mie], -1), out.irradiance, out.orders
-
-    def largest_error(got, want):
-        axes = tuple(range(want.ndim - 1))
-        bright = want > 1e-3 * want.max(axis=axes)
-        return np.max(np.abs(got[bright] / want[bright] - 1.0))
-
-    plain, plain_irradiance, _ = orders(0.0, 400)
-    q = shares[-2] / shares[-3]            # shares[-1]: the stage's last call, done
-    assert shares[-2] * q / (1.0 - q) < 1e-3
+    plain, plain_irradiance, _, remainder = _orders_sum(single, atm, draft, 0.0, 400, "hemispheres")
+    assert remainder < 1e-3
     for tolerance, cap in ((1e-4, 32), (1e-2, 400)):
-        S, irradiance, n = orders(tolerance, cap)
+        S, irradiance, n, _ = _orders_sum(single, atm, draft, tolerance, cap, "hemispheres")
         assert n < 400
-        assert largest_error(S, plain) < 0.01 and largest_error(irradiance, plain_irradiance) < 0.01, (tolerance, n)
+        assert _largest_error(S, plain) < 0.01 and _largest_error(irradiance, plain_irradiance) < 0.01, (tolerance, n)
 
 
 def test_the_orders_stop_where_their_sum_is_within_the_tolerance():
@@ -408,26 +412,14 @@ def test_the_orders_stop_where_their_sum_is_within_the_tolerance():
     # order's geometric tail) is checked below 1e-4, within 1% (measured 0.04%, 9 orders). Stopped by the geometric
     # tail of its last two orders, as soon as that tail falls below the tolerance (6 orders), the sum reads 6.0%
     # off at some texels (0.49% RMS), which fails.
-    from planetviz.tables.multiple import multiple_scattering
     from planetviz.tables.precompute import sizes_for
     atm = load_atmosphere("mars")
     draft = sizes_for(atm, QUALITY["draft"])                       # the level's sizes for a forward lobe
     single = precompute(atm, QUALITY["draft"], multiple=False)
-    shares = []
-
-    def orders(tolerance, max_orders):
-        out = multiple_scattering(single, atm, draft.multiple, *draft.directions, samples=draft.multiple_samples,
-                                  quadrature=draft.quadrature, tolerance=tolerance, max_orders=max_orders,
-                                  progress=lambda stage, done: shares.append(1.0 - done))
-        return np.concatenate([out.multiple, out.multiple_mie], -1), out.irradiance
-
-    plain, plain_irradiance = orders(0.0, 30)
-    q = shares[-2] / shares[-3]
-    assert shares[-2] * q / (1.0 - q) < 1e-4
-    S, irradiance = orders(draft.tolerance, 30)
-    for got, want in ((S, plain), (irradiance, plain_irradiance)):
-        bright = want > 1e-3 * want.max(axis=tuple(range(want.ndim - 1)))
-        assert np.max(np.abs(got[bright] / want[bright] - 1.0)) < draft.tolerance
+    plain, plain_irradiance, _, remainder = _orders_sum(single, atm, draft, 0.0, 30)
+    assert remainder < 1e-4
+    S, irradiance, _, _ = _orders_sum(single, atm, draft, draft.tolerance, 30)
+    assert _largest_error(S, plain) < draft.tolerance and _largest_error(irradiance, plain_irradiance) < draft.tolerance
 
 
 @pytest.mark.slow
