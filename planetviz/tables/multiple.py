@@ -270,7 +270,7 @@ class _Incident:
             density_shape, samples = along_rays
             d = np.where(self.ground, d_ground, distance_to_top_atmosphere_boundary(self.r, self.mu, tables.top))
             self.rays = _density_along_rays(tables, atm, density_shape, self.r, self.mu, self.mu_s, self.nu,
-                                            self.ground, d, samples, split=True)
+                                            self.ground, d, samples, split=True, thick=True)
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
             d = d_ground
@@ -492,7 +492,7 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
 
 
 #: Rays whose optical depth exceeds ``SPLIT_OPTICAL_DEPTH`` at some wavelength before ``SPLIT_NODE_SHARE`` of their
-#: quadrature nodes are integrated on three segments (``nodes.split_ray_nodes``: the first up to that depth of the
+#: quadrature nodes are integrated on segments (``nodes.split_ray_nodes``: the first up to that depth of the
 #: most extinguished wavelength), in every atmosphere (in optically thick ones, every ray): a ray that leaves the
 #: ground 1.7 deg up on a planet of 4e8 m crosses an optical depth of 18 at 440 nm, nearly all of it in the first
 #: 0.4% of its 60,000 km, where one Gauss-Legendre rule over the whole ray puts 2 of its 16 nodes (order 2 read 7.2%
@@ -507,7 +507,7 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
     ground's horizontal ray to the top, and longer ones, which graze the planet from high up and get
     ``nodes.LONG_RAY_NODE_FACTOR`` times the nodes (through the limb seen from space the density peaks in
     the middle of a 1600 km ray: with 8 nodes order 2 read 11% above its value with 4x the nodes at 440 nm,
-    tests/test_tables.py); each of them split in three segments where its optical depth exceeds
+    tests/test_tables.py); each of them split in segments where its optical depth exceeds
     ``SPLIT_OPTICAL_DEPTH`` before ``SPLIT_NODE_SHARE`` of its nodes (every ray where the atmosphere is optically
     ``thick``). The rays are ``nodes.integration_grid``'s for a table of ``size``. Returns [(rays, an
     index into the (n_r, n_mu) axes; the stencil reading J, a table of ``density_shape``, at the nodes; node
@@ -528,7 +528,7 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
         n = samples * (LONG_RAY_NODE_FACTOR if long else 1)
         rr, mm, gg, dd = (a[rays][:, None, None] for a in (r2, mu2, g2, d2))            # (rays, 1, 1)
         stencil, node_weight = _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg, dd,
-                                                   n, split)
+                                                   n, split, thick)
         per_opacity = np.concatenate([opacity[rays], opacity[rays]], -1)[:, None, None, None, :]
         # Where the scattering opacity is below EMPTY_RAY_OPACITY the ray holds no light a table can show
         # (S < 1e-30 J): its mean is stored as 0. Dividing there (the weights carry the densities, J the
@@ -540,13 +540,15 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
     return paths
 
 
-def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, split):
+def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, split, thick):
     """The integral int_0^d T(x, x_t) J(x_t) dt along rays (r, mu, mu_s, nu) of length d to the top or the
     ground, prepared for J's table of ``shape``: (the stencil reading J at the nodes, node weights (..., K, 2W)
     with the view transmittance and each component's density folded in, against J's 2W channels). r, mu,
     ``ground`` and d broadcast against mu_s and nu; n nodes per side of the closest approach
-    (``nodes.ray_nodes``), on three segments where ``split`` (``nodes.split_ray_nodes``)."""
-    t, wt = split_ray_nodes(atm, r, mu, d, n, SPLIT_OPTICAL_DEPTH) if split else ray_nodes(r, mu, d, n)  # (..., K)
+    (``nodes.ray_nodes``), on segments where ``split`` (``nodes.split_ray_nodes``, five where the atmosphere is
+    optically ``thick``)."""
+    t, wt = (split_ray_nodes(atm, r, mu, d, n, SPLIT_OPTICAL_DEPTH, thick=thick) if split
+             else ray_nodes(r, mu, d, n))                                                    # (..., K)
     r, mu, d = r[..., None], mu[..., None], d[..., None]
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * r * mu * t + r * r, 0.0)), tables.bottom, tables.top)
     mu_t = np.clip((r * mu + t) / r_t, -1.0, 1.0)
