@@ -363,9 +363,10 @@ def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_and_mu_s_texels_in_the
 
 
 def _orders_sum(single, atm, sizes, tolerance, max_orders, quadrature=None):
-    """The multiple-scattering stage at ``sizes`` (its quadrature of J's directions, or ``quadrature``): (S of both components on the last axis, the irradiance, the
-    orders taken, the plain sum's remainder: the last order's geometric tail over the sum, from the stage's
-    progress, which reports 1 - each order's share of the sum so far)."""
+    """The multiple-scattering stage at ``sizes`` (its quadrature of J's directions, or ``quadrature``): (S of both
+    components on the last axis, the irradiance, the orders taken, the plain sum's remainder: the last order's
+    geometric tail over the sum, from the stage's progress, which reports 1 - each order's share of the sum so
+    far)."""
     from planetviz.tables.multiple import multiple_scattering
     shares = []
     out = multiple_scattering(single, atm, sizes.multiple, *sizes.directions, samples=sizes.multiple_samples,
