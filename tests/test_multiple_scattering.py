@@ -483,57 +483,21 @@ def test_first_two_orders_from_the_ground_along_the_horizon_of_large_planets(see
     assert np.allclose(got[0], ref.radiance[ray], rtol=0.03), got[0] / ref.radiance[ray] - 1.0
 
 
-def _extinguished_light_error(atm, thick):
-    """The relative error, per ray of the standard multiple-scattering tables' integration grid and per wavelength,
-    of the stage's nodes along the ray (``nodes.split_ray_nodes``, n per side, 2n on rays longer than the ground's
-    horizontal ray, as ``multiple._ray_paths``) integrating the light the ray takes out of a beam, int_0^d beta(t)
-    T(0, t) dt, against its exact value 1 - T(0, d); T from the reference solver's optical depth
-    (``reference.optical_depth``, 8 and 16 panels of 16 Gauss-Legendre nodes on each side of the closest
-    approach). Rays whose 1 - T(0, d) is below 1e-3 are left out (NaN). Returns (that error, the largest change of
-    the exact value from 16 to 32 panels)."""
-    from planetviz.tables.nodes import LONG_RAY_NODE_FACTOR, altitude, integration_grid, split_ray_nodes
-    sizes = sizes_for(atm, QUALITY["standard"])
-    tables = precompute(atm, QUALITY["draft"], multiple=False, cache=None)
-    r, mu, _, _, _, d = (a[:, :, 0, 0].ravel() for a in integration_grid(tables, sizes.multiple))
-    origin = np.stack([np.zeros_like(r), np.zeros_like(r), r], -1)
-    direction = np.stack([np.sqrt(1.0 - mu * mu), np.zeros_like(mu), mu], -1)
-
-    def depth(i, t, panels):
-        """The optical depth (rays, K, W) from the start of rays ``i`` to the distances t (rays, K)."""
-        shape = t.shape + (3,)
-        return optical_depth(atm, np.broadcast_to(origin[i][:, None], shape),
-                             np.broadcast_to(direction[i][:, None], shape), t, panels=panels)
-
-    error = np.full(d.shape + (atm.n_wavelengths,), np.nan)
-    own = 0.0
-    long_ray = d > np.sqrt(tables.top ** 2 - tables.bottom ** 2)
-    for long in (False, True):
-        i = long_ray == long
-        n = sizes.multiple_samples * (LONG_RAY_NODE_FACTOR if long else 1)
-        t, w = split_ray_nodes(atm, r[i], mu[i], d[i], n, 3.0, thick=thick)
-        beta = atm.extinction(altitude(r[i][:, None], mu[i][:, None], t, atm.bottom_radius_m))
-        got = np.einsum("rk,rkw->rw", w, beta * np.exp(-depth(i, t, 8)))
-        exact, finer = (1.0 - np.exp(-depth(i, d[i][:, None], panels)[:, 0]) for panels in (16, 32))
-        bright = exact > 1e-3
-        error[i] = np.where(bright, got / np.maximum(exact, 1e-300) - 1.0, np.nan)
-        own = max(own, np.max(np.abs(finer[bright] / exact[bright] - 1.0)))
-    return error, own
-
-
 def test_the_nodes_along_rays_through_optically_thick_air_hold_every_wavelengths_light():
     # In optically thick air the stage integrates the scattering density along S's rays weighted by beta T: each
     # wavelength's light comes from its own first attenuation lengths, a few hundred metres at 440 nm and tens of
     # kilometres at 680 nm on random atmosphere 100807's plane-parallel twin (vertical optical depth 8.3 at 440
     # nm, 1.65 at 680; held-out split). The nodes' integral of beta T along every ray of the standard tables'
     # grid against its exact value 1 - T(d): the bound, 0.5% RMS per wavelength, is half the daylight target
-    # (1% RMS), the share a quadrature of the density may take; the exact value's own error, from 16 panels of 16
-    # nodes per side, is checked below 1e-4 against 32. On the three segments of thin atmospheres' split rays it
+    # (1% RMS), the share a quadrature of the density may take; the exact value's own error (16 against 32
+    # panels of the reference's optical depth) is checked below 1e-4. On the three segments of thin atmospheres' split rays it
     # reads 1.5% / 0.52% / 1.0% RMS at 680 / 550 / 440 nm, which fails; the five of thick atmospheres 0.19% /
     # 0.10% / 0.11%.
     from planetviz.validation import random_atmosphere
     from planetviz.validation.disort import plane_parallel_twin
+    from planetviz.validation.ray_nodes import extinguished_light_error
     atm = plane_parallel_twin(random_atmosphere(100807))
-    error, own = _extinguished_light_error(atm, thick=True)
+    error, own = extinguished_light_error(atm, thick=True)
     assert own < 1e-4
     rms = np.sqrt(np.nanmean(error ** 2, axis=0))
     assert np.all(rms < 0.005), rms

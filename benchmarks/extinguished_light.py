@@ -1,0 +1,43 @@
+"""The multiple-scattering stage's nodes along rays against a conservation law: the light each ray takes out of a
+beam, int beta T dt, is 1 - T(d) (planetviz.validation.ray_nodes), with the three segments of thin atmospheres'
+split rays and the five of thick ones (planetviz/tables/nodes.py, split_ray_nodes).
+
+    python benchmarks/extinguished_light.py [--quality standard] [ATMOSPHERE ...]
+
+ATMOSPHERE as in orders_sum.py (a preset, random-SEED, twin-SEED); default: the thick atmospheres of
+docs/tables.md, step 4. Printed per atmosphere: its vertical optical depth per wavelength and, for three and five
+segments, the RMS and largest relative error per wavelength over the rays of the multiple-scattering tables'
+grid whose 1 - T(d) exceeds 1e-3; and the exact value's own error (16 against 32 panels).
+"""
+import argparse
+
+import numpy as np
+
+from orders_sum import atmosphere
+from planetviz.tables import QUALITY
+from planetviz.validation.ray_nodes import extinguished_light_error
+
+THICK = ["twin-100807", "twin-100280", "twin-1", "twin-4", "twin-100221", "twin-100680", "twin-100950",
+         "twin-100088", "random-1", "random-4", "random-5", "random-100000", "random-100006", "exo-co2-thick"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("atmospheres", nargs="*", default=THICK)
+    ap.add_argument("--quality", default="standard", choices=list(QUALITY))
+    args = ap.parse_args()
+    percent = lambda x: " / ".join(f"{100 * v:.2f}%" for v in x)
+    print(f"quality {args.quality}; per wavelength, the atmosphere's order")
+    print("| atmosphere | vertical optical depth | segments | RMS | largest | exact value's own error |")
+    print("|---|---|---|---|---|---|")
+    for name in args.atmospheres:
+        atm = atmosphere(name)
+        tau = " / ".join(f"{v:.2f}" for v in atm.vertical_optical_depth())
+        for thick in (False, True):
+            error, own = extinguished_light_error(atm, thick, args.quality)
+            print(f"| {name} | {tau} | {'five' if thick else 'three'} | {percent(np.sqrt(np.nanmean(error ** 2, 0)))} "
+                  f"| {percent(np.nanmax(np.abs(error), 0))} | {own:.1e} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
