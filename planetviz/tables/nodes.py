@@ -76,8 +76,8 @@ def split_ray_nodes(atm, r, mu, d, n, depth=3.0, fine=64, thick=False):
     t_b. On random atmosphere 100807's plane-parallel twin with 4 nodes per side, the light each ray takes out of
     the beam (int beta T dt = 1 - T(d), tests/test_multiple_scattering.py) reads 1.5% / 0.52% / 1.0% RMS off at
     680 / 550 / 440 nm on three segments, 0.19% / 0.10% / 0.11% on five; in the Earth's atmosphere the two change no
-    texel's error against 16 nodes per side (0.23% RMS either way), so the split rays of thin atmospheres keep
-    three segments.
+    texel's error against 16 nodes per side (0.23% RMS either way; benchmarks/extinguished_light.py --tables
+    earth), so the split rays of thin atmospheres keep three segments.
     """
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
     t_a, t_m, t_b, t_c = split_distances(atm, r, mu, d, depth, fine)
