@@ -259,10 +259,12 @@ class ScatteringStencil:
     same points (the precompute reads every order's table at fixed points). ``mapping`` gives the texture
     coordinates (u_nu, u_mu_s, u_mu, u_r) (S's by default; the scattering density has its own).
 
-    For each point, the eight (r, mu, nu) neighbours, weighted to sum to 1, are kept as one sparse matrix over
-    the table's pairs of neighbouring mu_s texels (:func:`mu_s_pairs`); :meth:`apply` reads both texels of the
-    point's pair and blends them along mu_s as :func:`get_scattering` does (geometrically), so the precompute reads
-    its own tables as the renderer reads the final ones."""
+    For each point, the eight (r, mu, nu) neighbours, weighted to sum to 1, are kept as sparse matrices over
+    the table's pairs of neighbouring mu_s texels (:func:`mu_s_pairs`), one per chunk of about ``STENCIL_CHUNK``
+    points (whole rows of the last axis); :meth:`apply` reads both texels of the point's pair and blends them along
+    mu_s as :func:`get_scattering` does (geometrically), so the precompute reads its own tables as the renderer
+    reads the final ones. Chunk by chunk, the reads and the blend stay in the caches: the standard precompute of
+    the 10-bar preset took 2.2 times as long with all the points read at once."""
 
     def __init__(self, t, shape, r, mu, mu_s, nu, intersects_ground, mapping=scattering_uvwz_from_r_mu_mu_s_nu):
         from scipy.sparse import csr_matrix
@@ -290,8 +292,13 @@ class ScatteringStencil:
                     columns[..., c] = (kk * n_mu + jj) * n_x + slot
                     weights[..., c] = wn * wz * wy
                     c += 1
-        self.matrix = csr_matrix((weights.reshape(-1), columns.reshape(-1),
-                                  np.arange(n_points + 1, dtype=index) * per_point), shape=(n_points, n_texels))
+        matrix = csr_matrix((weights.reshape(-1), columns.reshape(-1),
+                             np.arange(n_points + 1, dtype=index) * per_point), shape=(n_points, n_texels))
+        # in chunks of whole rows of the last axis (a ray's nodes when :meth:`apply` sums along it), about
+        # STENCIL_CHUNK points each, so that a chunk's reads and blend stay in the caches
+        step = max(STENCIL_CHUNK // self.shape[-1], 1) * self.shape[-1] if self.shape else 1
+        self.chunks = [(slice(start, min(start + step, n_points)), matrix[start:start + step])
+                       for start in range(0, n_points, step)]
         self.f = fs.reshape(-1, 1).astype(np.float32)
         self.opacity = None
         if mapping is scattering_uvwz_from_r_mu_mu_s_nu:
@@ -305,12 +312,28 @@ class ScatteringStencil:
         multiplies each. With ``along`` (the stencil's points + (C,), weights): the weighted sum over the points'
         last axis instead (an integral along rays whose nodes are that axis), (...[:-1], C)."""
         channels = table.shape[-1]
-        both = self.matrix @ mu_s_pairs(table).reshape(-1, 2 * channels)
-        value = geometric_blend(*(np.ascontiguousarray(both[:, k:k + channels]) for k in (0, channels)), self.f)
-        if self.opacity is not None:
-            value *= np.tile(self.opacity, (1, channels // self.opacity.shape[-1]))
-        value = value.reshape(self.shape + (channels,))
-        return value if along is None else np.einsum("...kc,...kc->...c", value, along)
+        pairs = mu_s_pairs(table).reshape(-1, 2 * channels)
+        opacity = None if self.opacity is None else np.tile(self.opacity, (1, channels // self.opacity.shape[-1]))
+        if along is not None:
+            along = np.broadcast_to(along, self.shape + (channels,))
+        out = []
+        for points, matrix in self.chunks:
+            both = matrix @ pairs
+            value = geometric_blend(*(np.ascontiguousarray(both[:, k:k + channels]) for k in (0, channels)),
+                                    self.f[points])
+            if opacity is not None:
+                value *= opacity[points]
+            if along is not None:                       # whole rays: the chunk's rays of ``along``, broadcast
+                rays = np.unravel_index(np.arange(points.start, points.stop, self.shape[-1]) // self.shape[-1],
+                                        self.shape[:-1])
+                value = np.einsum("rkc,rkc->rc", value.reshape(-1, self.shape[-1], channels), along[rays])
+            out.append(value)
+        value = np.concatenate(out)
+        return value.reshape((self.shape if along is None else self.shape[:-1]) + (channels,))
+
+
+#: Points per chunk of :meth:`ScatteringStencil.apply`.
+STENCIL_CHUNK = 32768
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None, top=None):

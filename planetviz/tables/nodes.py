@@ -103,6 +103,22 @@ def split_distances(atm, r, mu, d, depth=3.0, fine=64):
     From t_a on, t_m bounds the most extinguished wavelength's next attenuation lengths and t_b, t_c the least
     extinguished one's, or its light beyond t_a where it crosses less than twice ``depth`` there."""
     r, mu, d = np.broadcast_arrays(np.asarray(r, float), np.asarray(mu, float), np.asarray(d, float))
+    out = np.empty((4,) + d.shape)
+    flat = out.reshape(4, -1)
+    rays = [a.ravel() for a in (r, mu, d)]
+    # in chunks of SPLIT_CHUNK rays: the fine nodes' optical depths, (rays, 2 fine, W), stay a few megabytes
+    for start in range(0, d.size, SPLIT_CHUNK):
+        part = slice(start, start + SPLIT_CHUNK)
+        flat[:, part] = _split_distances(atm, *(a[part] for a in rays), depth, fine)
+    return tuple(out)
+
+
+#: Rays per chunk of :func:`split_distances`.
+SPLIT_CHUNK = 4096
+
+
+def _split_distances(atm, r, mu, d, depth, fine):
+    """:func:`split_distances` of the rays (n,): (4, n)."""
     tf, wf = ray_nodes(r, mu, d, fine)
     order = np.argsort(tf, -1)
     tf, wf = np.take_along_axis(tf, order, -1), np.take_along_axis(wf, order, -1)
@@ -116,7 +132,7 @@ def split_distances(atm, r, mu, d, depth=3.0, fine=64):
     b, c = (np.maximum(np.argmax(least >= (at_a + np.minimum(x * depth, share * (least[..., -1] - at_a)))[..., None],
                                  -1), a) for x, share in ((1.0, 0.5), (2.0, 0.75)))
     at = lambda i: np.where(i < last, np.take_along_axis(tf, i[..., None], -1)[..., 0], d)
-    return at(a), at(m), at(b), at(c)
+    return np.stack([at(a), at(m), at(b), at(c)])
 
 
 def depth_distance(atm, r, mu, d, depth=3.0, fine=64):
