@@ -2,12 +2,14 @@
 standard tables.
 
     python benchmarks/reference_tail.py [--seed 5] [--cameras ground aircraft] [--light deep-twilight]
-                                        [--paths 4096 65536] [--wavelength 2]
+                                        [--paths 4096 65536] [--wavelength 2] [--guide-events all]
 
 Rays: planetviz.validation.rays of the random atmosphere ``--seed`` (2 per camera class, the suite's rays). For
 each path count the radiance at wavelength index ``--wavelength`` with its standard error, and the tables'
 reading. Where the estimator's error bars are honest the estimates agree within a few standard errors whatever
 the paths; where a rare path carries most of the light the smaller counts read low by more than that.
+``--guide-events``: the solver's ``guide_events`` settings to run (``all``: every event, the default; a number:
+the guide around the sun at the paths' first that many events only), each with every path count.
 """
 import argparse
 import time
@@ -27,23 +29,26 @@ def main():
     ap.add_argument("--light", default="deep-twilight", choices=list(LIGHT))
     ap.add_argument("--paths", type=int, nargs="+", default=[4096, 65536])
     ap.add_argument("--wavelength", type=int, default=2)
+    ap.add_argument("--guide-events", nargs="+", default=["all"])
     args = ap.parse_args()
     atm = random_atmosphere(args.seed)
     w = args.wavelength
     tables = precompute(atm, QUALITY["standard"], cache=TableCache())
     print(f"random atmosphere {args.seed}, {args.light}, {atm.wavelengths_nm[w]:g} nm")
-    print("| camera | ray | paths | seconds | reference [1/sr] | standard error | tables |")
-    print("|---|---|---|---|---|---|---|")
+    guides = [None if g == "all" else int(g) for g in args.guide_events]
+    print("| camera | ray | guide events | paths | seconds | reference [1/sr] | standard error | tables |")
+    print("|---|---|---|---|---|---|---|---|")
     for camera in args.cameras:
         cams, views, suns = rays(atm, args.seed, camera, args.light, n=2)
         got, _ = sky_radiance(tables, atm, cams, views, suns)
-        for paths in args.paths:
-            t0 = time.perf_counter()
-            res = solve(atm, cams, views, suns, samples=paths, seed=123)
-            seconds = time.perf_counter() - t0
-            for k in range(len(cams)):
-                print(f"| {camera} | {k} | {paths} | {seconds:.0f} | {res.radiance[k, w]:.3e} | "
-                      f"{res.stderr[k, w]:.2e} | {got[k, w]:.3e} |", flush=True)
+        for guide in guides:
+            for paths in args.paths:
+                t0 = time.perf_counter()
+                res = solve(atm, cams, views, suns, samples=paths, seed=123, guide_events=guide)
+                seconds = time.perf_counter() - t0
+                for k in range(len(cams)):
+                    print(f"| {camera} | {k} | {'all' if guide is None else guide} | {paths} | {seconds:.0f} | "
+                          f"{res.radiance[k, w]:.3e} | {res.stderr[k, w]:.2e} | {got[k, w]:.3e} |", flush=True)
 
 
 if __name__ == "__main__":

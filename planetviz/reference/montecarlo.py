@@ -107,13 +107,18 @@ class ReferenceResult:
 
 def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, max_order: int | None = None,
           single: str = "quadrature", workers: int | None = None, batch_paths: int = 65536,
-          sampler: str = "sobol") -> ReferenceResult:
+          sampler: str = "sobol", guide_events: int | None = None) -> ReferenceResult:
     """Reference radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
 
     ``samples`` paths per ray and wavelength; ``seed`` fixes the result whatever ``workers`` is (default:
     every core for runs of more than 2e4 paths, else 1). ``single``: ``"quadrature"`` (L_1 exact) or
     ``"paths"`` (L_1 by the paths too, for checks). ``sampler``: ``"sobol"`` (randomised quasi-Monte Carlo for
     the paths' first SOBOL_EVENTS events, :class:`_Uniforms`) or ``"random"`` (independent paths).
+    ``guide_events``: the events of a path (1 its first scattering or ground bounce) whose new direction may be
+    drawn from the guide around the sun, the first ``guide_events`` (None: every event). Past them the direction
+    follows the phase function (the cosine law at the ground) alone, with weight 1: over the tens of events of
+    light diffusing through an optically thick atmosphere the guide's weights, phase / mixture pdf up to
+    1 / (1 - EPSILON) each, multiply into a heavy tail (docs/benchmarks.md, "Reference solver").
 
     Example
     -------
@@ -129,6 +134,8 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
         raise ValueError(f"single: must be 'quadrature' or 'paths', got {single!r}")
     if sampler not in SAMPLERS:
         raise ValueError(f"sampler: must be one of {SAMPLERS}, got {sampler!r}")
+    if guide_events is not None and (not isinstance(guide_events, (int, np.integer)) or guide_events < 0):
+        raise ValueError(f"guide_events: must be None or an integer >= 0, got {guide_events!r}")
     camera = np.atleast_2d(np.asarray(camera, dtype=float))
     view = np.atleast_2d(np.asarray(view_dir, dtype=float))
     view = view / np.linalg.norm(view, axis=-1, keepdims=True)
@@ -151,7 +158,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
                  for w in range(atm.n_wavelengths) for lo in range(0, n, per_block)
                  for c in range(-(-samples // chunk))]
         args = [(atm, w, camera[lo:hi], view[lo:hi], sun[lo:hi], paths, (seed, w, lo) + ((c,) if c else ()),
-                 first, limit, sampler) for w, lo, hi, c, paths in tasks]
+                 first, limit, sampler, guide_events) for w, lo, hi, c, paths in tasks]
         if workers is None:
             workers = (os.cpu_count() or 1) if n * samples * atm.n_wavelengths > 20_000 else 1
         if workers > 1 and len(tasks) > 1:
@@ -173,12 +180,13 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
 
 def _task(args):
     """(mean, squared standard error of the mean) per ray, of one block of rays and paths at one wavelength."""
-    atm, w, camera, view, sun, samples, key, first, limit, sampler = args
+    atm, w, camera, view, sun, samples, key, first, limit, sampler, guide_events = args
     rng = np.random.default_rng(np.random.SeedSequence(list(key)))
     n = len(camera)
     rep = np.repeat(np.arange(n), samples)
     uniforms = _Uniforms.make(sampler, n, samples, rng)
-    contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], uniforms, first, limit).reshape(n, samples)
+    contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], uniforms, first, limit,
+                     guide_events).reshape(n, samples)
     return uniforms.mean_and_variance(contrib)
 
 
@@ -303,11 +311,17 @@ def _guide_pdf(atm, w, sun, d):
     return 0.5 * wide + 0.5 * atm.mie.phase_function(mu)[:, w]
 
 
-def _new_direction(atm, w, d, sun, b_r, b_m, u):
+def _guide_share(order, guide_events):
+    """The probability of drawing the new direction from the guide at a path's event ``order`` (1 its first):
+    EPSILON at the first ``guide_events`` events (None: every event), else 0."""
+    return EPSILON if guide_events is None else np.where(order <= guide_events, EPSILON, 0.0)
+
+
+def _new_direction(atm, w, d, sun, b_r, b_m, u, eps=EPSILON):
     """(new direction, phase / pdf weight) at a scattering vertex (b_r, b_m > 0 the local coefficients; u
-    (DRAWS, m) the paths' draws at this event)."""
+    (DRAWS, m) the paths' draws at this event; ``eps`` the probability of the guide, :func:`_guide_share`)."""
     m = len(d)
-    guided = u[_GUIDED] < EPSILON
+    guided = u[_GUIDED] < eps
     cos = np.empty(m)
     free = ~guided
     cos[free] = _sample_phase(atm, w, b_r[free], b_m[free], u[:, free])
@@ -317,19 +331,20 @@ def _new_direction(atm, w, d, sun, b_r, b_m, u):
         out[guided] = _guide_sample(atm, w, sun[guided], u[:, guided])
     mu = np.clip(np.einsum("ij,ij->i", d, out), -1.0, 1.0)
     phase = (b_r * atm.rayleigh.phase_function(mu) + b_m * atm.mie.phase_function(mu)[:, w]) / (b_r + b_m)
-    return out, phase / ((1.0 - EPSILON) * phase + EPSILON * _guide_pdf(atm, w, sun, out))
+    return out, phase / ((1.0 - eps) * phase + eps * _guide_pdf(atm, w, sun, out))
 
 
-def _ground_direction(atm, w, normal, sun, u):
-    """(new direction, (cos / pi) / pdf weight) leaving a Lambertian ground (u (DRAWS, m): the paths' draws)."""
-    guided = u[_GUIDED] < EPSILON
+def _ground_direction(atm, w, normal, sun, u, eps=EPSILON):
+    """(new direction, (cos / pi) / pdf weight) leaving a Lambertian ground (u (DRAWS, m): the paths' draws;
+    ``eps`` the probability of the guide, :func:`_guide_share`)."""
+    guided = u[_GUIDED] < eps
     out = np.empty_like(normal)
     free = ~guided
     out[free] = _onb_rotate(normal[free], np.sqrt(u[_COS][free]), 2.0 * np.pi * u[_PHI][free])
     if np.any(guided):
         out[guided] = _guide_sample(atm, w, sun[guided], u[:, guided])
     cos = np.maximum(np.einsum("ij,ij->i", normal, out), 0.0)
-    return out, (cos / np.pi) / ((1.0 - EPSILON) * cos / np.pi + EPSILON * _guide_pdf(atm, w, sun, out))
+    return out, (cos / np.pi) / ((1.0 - eps) * cos / np.pi + eps * _guide_pdf(atm, w, sun, out))
 
 
 # ------------------------------------------------------------------ optical depth along segments
@@ -550,8 +565,9 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, u):
     return out
 
 
-def _trace(atm, w, origin, direction, sun, uniforms, first, limit):
-    """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w.
+def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=None):
+    """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w; the
+    guide around the sun at the first ``guide_events`` events of each path (None: every event; :func:`solve`).
 
     Each step, for the live paths: the segment from the last vertex along its direction to the ground or to
     space and its optical depth; the light of the next vertex straight from the sun (:func:`_next_event`);
@@ -589,13 +605,13 @@ def _trace(atm, w, origin, direction, sun, uniforms, first, limit):
         if np.any(collide):
             ci = np.nonzero(collide)[0]
             _collide(atm, w, paths, idx[ci], p[ci], dd[ci], sun, t_nodes[ci], tau[ci], absorbed[ci],
-                     p_collide[ci], u[:, ci])
+                     p_collide[ci], u[:, ci], guide_events)
         hit = alive & ~collide & ground
         alive &= collide | hit
         if np.any(hit):
             gi = np.nonzero(hit)[0]
             _bounce(atm, w, paths, idx[gi], p[gi] + t_ground[gi, None] * dd[gi], sun,
-                    np.exp(-tau[gi, -1]) / (1.0 - p_collide[gi]), u[:, gi])
+                    np.exp(-tau[gi, -1]) / (1.0 - p_collide[gi]), u[:, gi], guide_events)
         first_event = alive & (paths.order[idx] == 1)
         paths.weight_first[idx[first_event]] = paths.weight[idx[first_event]]
         idx = idx[_roulette(paths, idx, alive, u[_ROULETTE])]
@@ -614,7 +630,7 @@ class _Paths:
     order: np.ndarray
 
 
-def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, u):
+def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, u, guide_events=None):
     """A collision along the segments p + t d of the paths ``g`` (forced: probability ``p_collide``), drawn
     from the tabulated optical depth; the weight takes beta_scat exp(-tau) over the density sampled (exact tau
     to the point, :func:`collision_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
@@ -628,18 +644,19 @@ def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, u):
     paths.weight[g[~scat]] = 0.0
     if np.any(scat):
         gs = g[scat]
-        paths.d[gs], ratio = _new_direction(atm, w, paths.d[gs], sun[gs], b_r[scat], b_m[scat], u[:, scat])
+        paths.d[gs], ratio = _new_direction(atm, w, paths.d[gs], sun[gs], b_r[scat], b_m[scat], u[:, scat],
+                                            _guide_share(paths.order[gs], guide_events))
         paths.weight[gs] *= ratio
 
 
-def _bounce(atm, w, paths, g, x, sun, weight, u):
+def _bounce(atm, w, paths, g, x, sun, weight, u, guide_events=None):
     """The paths ``g`` reach the ground at x (the segment's transmittance over the probability of no collision,
     ``weight``): reflected by the Lambertian ground of albedo a, a new direction from :func:`_ground_direction`."""
     normal = x / np.linalg.norm(x, axis=1, keepdims=True)
     paths.pos[g] = normal * atm.bottom_radius_m
-    paths.d[g], ratio = _ground_direction(atm, w, normal, sun[g], u)
-    paths.weight[g] *= weight * float(atm.ground_albedo[w]) * ratio
     paths.order[g] += 1
+    paths.d[g], ratio = _ground_direction(atm, w, normal, sun[g], u, _guide_share(paths.order[g], guide_events))
+    paths.weight[g] *= weight * float(atm.ground_albedo[w]) * ratio
 
 
 def _roulette(paths, idx, alive, u):
