@@ -178,6 +178,28 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
     return ReferenceResult(mean, err, transmittance, samples)
 
 
+def path_contributions(atm, w, camera, view_dir, sun_dir, samples: int, seed: int = 0,
+                       guide_events: int | None = None) -> np.ndarray:
+    """The orders >= 2 of ``samples`` independent paths (``sampler="random"``) of one ray (camera (3,) [m],
+    view_dir, sun_dir) at wavelength index w, each path's own contribution [1/sr] (samples,): their mean is
+    :func:`solve`'s estimate of those orders; how few of them carry the sum shows a heavy tail that a standard
+    error need not (benchmarks/reference_tail.py).
+
+    Example
+    -------
+    >>> from planetviz import load_atmosphere
+    >>> atm = load_atmosphere("earth")
+    >>> path_contributions(atm, 2, [0, 0, 6360002.0], [0, 0, 1.0], [0, 0.5, 0.866], 64).shape
+    (64,)
+    """
+    rows = np.zeros(samples, dtype=int)
+    camera, view, sun = (np.atleast_2d(np.asarray(a, dtype=float))[rows] for a in (camera, view_dir, sun_dir))
+    view = view / np.linalg.norm(view, axis=-1, keepdims=True)
+    sun = sun / np.linalg.norm(sun, axis=-1, keepdims=True)
+    uniforms = _Uniforms.make("random", 1, samples, np.random.default_rng(seed))
+    return _trace(atm, w, camera, view, sun, uniforms, 2, np.iinfo(np.int64).max, guide_events)
+
+
 def _task(args):
     """(mean, squared standard error of the mean) per ray, of one block of rays and paths at one wavelength."""
     atm, w, camera, view, sun, samples, key, first, limit, sampler, guide_events = args
