@@ -318,6 +318,27 @@ def test_the_guide_at_the_first_events_only_leaves_the_estimate_unbiased():
         assert np.all(z < 4.5), (guide_events, z)
 
 
+def test_the_paths_one_by_one_sum_to_the_solvers_orders_above_the_first():
+    # montecarlo.path_contributions (benchmarks/reference_tail.py --tail) returns each path's own contribution
+    # to the orders >= 2; their mean and the solver's (its whole radiance less the single-scattering quadrature,
+    # both estimated at 440 nm with independent seeds) are two unbiased estimates of the same value: within 4.5
+    # combined standard errors on daylight rays from the ground and the air (a correct pair fails with
+    # probability ~1e-5 each).
+    from planetviz.reference.montecarlo import path_contributions
+    cam = np.array([[0, 0, R + 2.0], [0, 0, R + 1e4]])
+    view = np.array([[0, 0.6, 0.8], [0.9, 0.0, -0.1]])
+    view /= np.linalg.norm(view, axis=1, keepdims=True)
+    sun = np.array([0.5, 0.0, 0.866])
+    total = solve(EARTH, cam, view, sun, samples=2048, seed=8, sampler="random")
+    scatter, ground = single_scattering(EARTH, cam, view, sun)
+    for k in range(len(cam)):
+        paths = path_contributions(EARTH, 2, cam[k], view[k], sun, 2048, seed=9)
+        assert paths.shape == (2048,)
+        higher = total.radiance[k, 2] - scatter[k, 2] - ground[k, 2]
+        z = abs(paths.mean() - higher) / np.hypot(paths.std() / np.sqrt(len(paths)), total.stderr[k, 2])
+        assert z < 4.5, (k, z)
+
+
 @pytest.mark.parametrize("guide_events", [-1, 1.5, "3"])
 def test_guide_events_must_be_a_count(guide_events):
     with pytest.raises(ValueError, match="guide_events"):
