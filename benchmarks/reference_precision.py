@@ -2,14 +2,15 @@
 
     python benchmarks/reference_precision.py [--split tuning|held-out] [--atmospheres 8] [--paths 2048]
                                              [--presets earth mars exo-co2-thick] [--seeds 1 2]
-                                             [--sampler sobol|random]
+                                             [--sampler sobol|random] [--guide-events N]
 
 For each atmosphere (planetviz.validation.random_atmosphere over the split's seeds, then the presets), one
 ray per camera class and light class (planetviz.validation.rays), solved twice with independent seeds.
 Printed per light class: the median and 90th percentile of the relative standard error, the RMS of the
 z-scores (difference of the two runs over their combined standard errors; 1 for honest error bars) and
 the largest |z|, and the cost per ray and wavelength (both runs, both cores). Values below 1e-12 / sr
-(no light reaches the ray) are left out.
+(no light reaches the ray) are left out. ``--guide-events N``: the solver's guide around the sun at the paths'
+first N events only (``solve(..., guide_events=N)``; default every event).
 """
 import argparse
 import time
@@ -38,6 +39,7 @@ def main():
     ap.add_argument("--paths", type=int, default=2048)
     ap.add_argument("--seeds", type=int, nargs=2, default=[1, 2])
     ap.add_argument("--sampler", default="sobol", choices=list(SAMPLERS))
+    ap.add_argument("--guide-events", type=int, default=None)
     ap.add_argument("--verbose", action="store_true")
     args = ap.parse_args()
     rows = {light: {"rel": [], "z": [], "seconds": 0.0, "n": 0} for light in LIGHT}
@@ -46,8 +48,8 @@ def main():
             batch = [rays(atm, seed, c, light) for c in CAMERAS]
             cam, view, sun = (np.concatenate(x) for x in zip(*batch))
             t0 = time.perf_counter()
-            a, b = (solve(atm, cam, view, sun, samples=args.paths, seed=s, sampler=args.sampler)
-                    for s in args.seeds)
+            a, b = (solve(atm, cam, view, sun, samples=args.paths, seed=s, sampler=args.sampler,
+                          guide_events=args.guide_events) for s in args.seeds)
             rows[light]["seconds"] += time.perf_counter() - t0
             rows[light]["n"] += len(cam) * atm.n_wavelengths
             ok = (a.radiance > 1e-12) & (b.radiance > 1e-12)
@@ -61,7 +63,8 @@ def main():
                       f"max |z| {np.abs(z).max() if z.size else np.nan:.2f}"
                       + (f" ({CAMERAS[np.nonzero(ok)[0][worst]]})" if worst is not None else ""), flush=True)
     print(f"split {args.split}, {args.atmospheres} random atmospheres + {args.presets}, {args.paths} paths per ray "
-          f"and wavelength, seeds {args.seeds}, sampler {args.sampler}")
+          f"and wavelength, seeds {args.seeds}, sampler {args.sampler}, guide events "
+          f"{'all' if args.guide_events is None else args.guide_events}")
     print(f"{'light':>14} {'values':>7} {'median rel. s.e.':>17} {'p90':>7} {'RMS z':>6} {'max |z|':>8} "
           f"{'s per ray-wavelength':>21}")
     for light, r in rows.items():

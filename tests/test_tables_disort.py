@@ -44,7 +44,7 @@ def _channels(atm, keep):
 def _random_4_twin(keep=(0, 1, 2), quality="standard"):
     """(atmosphere, its tables at ``quality``): random atmosphere 4 of the tuning split in its plane-parallel limit
     (validation.disort.plane_parallel_twin) with the wavelengths of index in ``keep``. Its 3-wavelength standard
-    tables take about 6 minutes on one core; the module's tests share them (a module runs on one worker)."""
+    tables take about 3.5 minutes on one core; the module's tests share them (a module runs on one worker)."""
     from planetviz.validation import random_atmosphere
     from planetviz.validation.disort import plane_parallel_twin
     atm = _channels(plane_parallel_twin(random_atmosphere(4)), list(keep))
