@@ -277,13 +277,9 @@ def test_a_stored_result_is_read_back_only_for_the_orders_it_solved(tmp_path, mo
     assert solved == [None, 2]
 
 
-def test_quasi_monte_carlo_agrees_with_independent_paths_and_is_more_precise():
-    # Randomised quasi-Monte Carlo (the default sampler) against independent paths on daylight rays from the
-    # ground and the air, all orders: two unbiased estimates of the same radiance agree within 4.5 combined
-    # standard errors (18 comparisons: a correct pair fails with probability ~1e-4), and by day, where the
-    # second order (whose first vertex, new direction and next event the Sobol' sets cover evenly) is most of
-    # the independent paths' variance, the sets' standard error is below theirs on most rays: a sampler whose
-    # coordinates were misassigned would stay unbiased but lose that.
+def _daylight_rays():
+    """(cameras, views, suns) of 6 Earth daylight rays from the ground and the air (2 m to 10 km, the sun 10-60
+    deg up), for comparisons of two estimates of the same radiance."""
     cam = np.array([[0, 0, R + 2.0], [0, 0, R + 2.0], [0, 0, R + 1e4], [0, 0, R + 1e4], [0, 0, R + 2.0],
                     [0, 0, R + 3e3]])
     view = np.array([[0, 0, 1.0], [-0.9, 0, 0.3], [0.3, 0.8, 0.1], [0.6, -0.2, -0.3], [0.2, 0.9, 0.05],
@@ -291,6 +287,17 @@ def test_quasi_monte_carlo_agrees_with_independent_paths_and_is_more_precise():
     view /= np.linalg.norm(view, axis=1, keepdims=True)
     el = np.radians([30.0, 10.0, 45.0, 20.0, 60.0, 15.0])
     sun = np.stack([np.cos(el), np.zeros_like(el), np.sin(el)], axis=1)
+    return cam, view, sun
+
+
+def test_quasi_monte_carlo_agrees_with_independent_paths_and_is_more_precise():
+    # Randomised quasi-Monte Carlo (the default sampler) against independent paths on daylight rays from the
+    # ground and the air, all orders: two unbiased estimates of the same radiance agree within 4.5 combined
+    # standard errors (18 comparisons: a correct pair fails with probability ~1e-4), and by day, where the
+    # second order (whose first vertex, new direction and next event the Sobol' sets cover evenly) is most of
+    # the independent paths' variance, the sets' standard error is below theirs on most rays: a sampler whose
+    # coordinates were misassigned would stay unbiased but lose that.
+    cam, view, sun = _daylight_rays()
     qmc = solve(EARTH, cam, view, sun, samples=2048, seed=3, sampler="sobol")
     iid = solve(EARTH, cam, view, sun, samples=2048, seed=4, sampler="random")
     z = np.abs(qmc.radiance - iid.radiance) / np.hypot(qmc.stderr, iid.stderr)
@@ -304,13 +311,7 @@ def test_the_guide_at_the_first_events_only_leaves_the_estimate_unbiased():
     # daylight radiances (from the ground and the air, all orders, independent seeds) agree within 4.5 combined
     # standard errors (18 comparisons each: a correct pair fails with probability ~1e-4). With the weight left as
     # the mixture's where the draw follows the phase alone, the comparison fails.
-    cam = np.array([[0, 0, R + 2.0], [0, 0, R + 2.0], [0, 0, R + 1e4], [0, 0, R + 1e4], [0, 0, R + 2.0],
-                    [0, 0, R + 3e3]])
-    view = np.array([[0, 0, 1.0], [-0.9, 0, 0.3], [0.3, 0.8, 0.1], [0.6, -0.2, -0.3], [0.2, 0.9, 0.05],
-                     [-0.5, 0.5, 0.7]])
-    view /= np.linalg.norm(view, axis=1, keepdims=True)
-    el = np.radians([30.0, 10.0, 45.0, 20.0, 60.0, 15.0])
-    sun = np.stack([np.cos(el), np.zeros_like(el), np.sin(el)], axis=1)
+    cam, view, sun = _daylight_rays()
     every = solve(EARTH, cam, view, sun, samples=1024, seed=5)
     for guide_events, seed in ((0, 6), (2, 7)):
         first = solve(EARTH, cam, view, sun, samples=1024, seed=seed, guide_events=guide_events)
