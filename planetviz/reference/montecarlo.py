@@ -58,7 +58,7 @@ import numpy as np
 
 from ..model.geometry import distance_to_ground, distance_to_top_exit
 from ..model.optics.phase import PENNDORF_A, henyey_greenstein, sample_henyey_greenstein, sample_rayleigh_like
-from .optical_depth import optical_depth, shell_segment, sun_transmittance, view_transmittance
+from .optical_depth import shell_segment, sun_transmittance, view_transmittance
 from .shadow import shadow_interval
 from .single import single_scattering
 
@@ -489,16 +489,11 @@ def _sun_bound(atm, w, x, sun, t, p, d):
     0 behind the planet. A bound for :func:`_strata`'s pdf, not a term of the estimate."""
     closest = np.clip(-np.einsum("ij,ij->i", p, d), t[:, 0], t[:, -1])
     probes = np.stack([x[:, 0], p + closest[:, None] * d, x[:, -1]], 1)
-    sun_p = np.broadcast_to(sun[:, None, :], probes.shape)
-    probe = np.exp(-optical_depth(atm, probes, sun_p, np.inf, panels=1, index=w)[..., 0])
-    probe = np.where(np.isfinite(distance_to_ground(probes, sun_p, atm.bottom_radius_m)), 0.0, probe)
+    probe = sun_transmittance(atm, probes, sun[:, None, :], index=w, panels=1)[..., 0]
     out = np.ones(t.shape)
     varies = probe.min(axis=1) * SUN_FLAT < probe.max(axis=1)
     if np.any(varies):
-        xv = x[varies]
-        sun_x = np.broadcast_to(sun[varies][:, None, :], xv.shape)
-        t_sun = np.exp(-optical_depth(atm, xv, sun_x, np.inf, panels=1, index=w)[..., 0])
-        out[varies] = np.where(np.isfinite(distance_to_ground(xv, sun_x, atm.bottom_radius_m)), 0.0, t_sun)
+        out[varies] = sun_transmittance(atm, x[varies], sun[varies][:, None, :], index=w, panels=1)[..., 0]
     return out
 
 

@@ -67,14 +67,16 @@ def shell_segment(origin, direction, top_radius):
     return start, end
 
 
-def sun_transmittance(atm, points, sun_dir, index=None):
-    """T(x -> sun) per wavelength: 0 where the planet blocks the sun, else exp(-tau) to the top."""
+def sun_transmittance(atm, points, sun_dir, index=None, panels: int = 8):
+    """T(x -> sun) per wavelength: 0 where the planet blocks the sun, else exp(-tau) to the top (``panels`` x 16
+    Gauss-Legendre points, :func:`optical_depth`). The blocked rays are never integrated: through the planet the
+    altitudes fall far below the ground, where a thin layer's density exp(-h / H) overflows."""
     p = np.asarray(points, dtype=float)
     s = np.broadcast_to(np.asarray(sun_dir, dtype=float), p.shape)
     blocked = np.isfinite(distance_to_ground(p, s, atm.bottom_radius_m))
     out = np.zeros(p.shape[:-1] + ((atm.n_wavelengths,) if index is None else (1,)))
     lit = ~blocked
-    out[lit] = np.exp(-optical_depth(atm, p[lit], s[lit], np.inf, index=index))
+    out[lit] = np.exp(-optical_depth(atm, p[lit], s[lit], np.inf, panels=panels, index=index))
     return out
 
 
