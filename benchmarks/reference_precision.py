@@ -2,7 +2,7 @@
 
     python benchmarks/reference_precision.py [--split tuning|held-out] [--atmospheres 8] [--paths 2048]
                                              [--presets earth mars exo-co2-thick] [--seeds 1 2]
-                                             [--sampler sobol|random] [--guide-events N]
+                                             [--sampler sobol|random] [--guide-events N|all]
 
 For each atmosphere (planetviz.validation.random_atmosphere over the split's seeds, then the presets), one
 ray per camera class and light class (planetviz.validation.rays), solved twice with independent seeds.
@@ -10,7 +10,7 @@ Printed per light class: the median and 90th percentile of the relative standard
 z-scores (difference of the two runs over their combined standard errors; 1 for honest error bars) and
 the largest |z|, and the cost per ray and wavelength (both runs, both cores). Values below 1e-12 / sr
 (no light reaches the ray) are left out. ``--guide-events N``: the solver's guide around the sun at the paths'
-first N events only (``solve(..., guide_events=N)``; default every event).
+first N events only (``solve(..., guide_events=N)``; ``all``: every event; default the solver's, GUIDE_EVENTS).
 """
 import argparse
 import time
@@ -19,7 +19,7 @@ import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference import solve
-from planetviz.reference.montecarlo import SAMPLERS
+from planetviz.reference.montecarlo import GUIDE_EVENTS, SAMPLERS
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, random_atmosphere, rays
 
 
@@ -39,9 +39,10 @@ def main():
     ap.add_argument("--paths", type=int, default=2048)
     ap.add_argument("--seeds", type=int, nargs=2, default=[1, 2])
     ap.add_argument("--sampler", default="sobol", choices=list(SAMPLERS))
-    ap.add_argument("--guide-events", type=int, default=None)
+    ap.add_argument("--guide-events", default=str(GUIDE_EVENTS))
     ap.add_argument("--verbose", action="store_true")
     args = ap.parse_args()
+    args.guide_events = None if args.guide_events == "all" else int(args.guide_events)
     rows = {light: {"rel": [], "z": [], "seconds": 0.0, "n": 0} for light in LIGHT}
     for name, atm, seed in cases(args):
         for light in LIGHT:

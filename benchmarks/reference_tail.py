@@ -2,15 +2,16 @@
 standard tables.
 
     python benchmarks/reference_tail.py [--seed 5] [--cameras ground aircraft] [--light deep-twilight]
-                                        [--paths 4096 65536] [--wavelength 2] [--guide-events all]
+                                        [--paths 4096 65536] [--wavelength 2] [--guide-events 3]
                                         [--tail CAMERA RAY PATHS]
 
 Rays: planetviz.validation.rays of the random atmosphere ``--seed`` (2 per camera class, the suite's rays). For
 each path count the radiance at wavelength index ``--wavelength`` with its standard error, and the tables'
 reading. Where the estimator's error bars are honest the estimates agree within a few standard errors whatever
 the paths; where a rare path carries most of the light the smaller counts read low by more than that.
-``--guide-events``: the solver's ``guide_events`` settings to run (``all``: every event, the default; a number:
-the guide around the sun at the paths' first that many events only), each with every path count.
+``--guide-events``: the solver's ``guide_events`` settings to run (``all``: every event; a number: the guide
+around the sun at the paths' first that many events only; default the solver's, GUIDE_EVENTS), each with every
+path count.
 ``--tail``: instead, for one of those rays and each setting, PATHS independent paths' own contributions
 (``montecarlo.path_contributions``, orders 2 and above): their mean, its standard error, the largest over the
 mean and the share of the sum the top 0.01% and 1% of the paths carry.
@@ -21,7 +22,7 @@ import time
 import numpy as np
 
 from planetviz.reference import solve
-from planetviz.reference.montecarlo import path_contributions
+from planetviz.reference.montecarlo import GUIDE_EVENTS, path_contributions
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.validation import CAMERAS, LIGHT, random_atmosphere, rays
@@ -34,7 +35,7 @@ def main():
     ap.add_argument("--light", default="deep-twilight", choices=list(LIGHT))
     ap.add_argument("--paths", type=int, nargs="+", default=[4096, 65536])
     ap.add_argument("--wavelength", type=int, default=2)
-    ap.add_argument("--guide-events", nargs="+", default=["all"])
+    ap.add_argument("--guide-events", nargs="+", default=[str(GUIDE_EVENTS)])
     ap.add_argument("--tail", nargs=3, metavar=("CAMERA", "RAY", "PATHS"))
     args = ap.parse_args()
     atm = random_atmosphere(args.seed)

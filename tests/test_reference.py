@@ -4,7 +4,7 @@ import pytest
 
 from planetviz import load_atmosphere
 from planetviz.reference import optical_depth, single_scattering, solve
-from planetviz.reference.montecarlo import segment_optical_depth
+from planetviz.reference.montecarlo import GUIDE_EVENTS, segment_optical_depth
 
 EARTH = load_atmosphere("earth")
 R = EARTH.bottom_radius_m
@@ -277,6 +277,27 @@ def test_a_stored_result_is_read_back_only_for_the_orders_it_solved(tmp_path, mo
     assert solved == [None, 2]
 
 
+def test_a_stored_result_is_read_back_only_for_the_guide_it_was_solved_with(tmp_path, monkeypatch):
+    # A result of every order depends on the solver's guide_events and keeps it: a file solved with the guide at
+    # every event must not answer the default request. A result of orders up to guide_events + 1 draws every new
+    # direction from the guide whatever guide_events is (the same numbers bit for bit, checked here), so it is
+    # stored without it and answers any.
+    from planetviz.reference import stored
+    atm = load_atmosphere("mars")
+    ray = ([[0.0, 0.0, atm.bottom_radius_m + 2.0]], [[0.0, 0.6, 0.8]], [0.0, 0.3, 0.954])
+    low = GUIDE_EVENTS + 1
+    assert np.array_equal(solve(atm, *ray, samples=64, max_order=low, guide_events=None).radiance,
+                          solve(atm, *ray, samples=64, max_order=low).radiance)
+    stored.stored_solve(tmp_path / "every.npz", atm, *ray, samples=64, guide_events=None)
+    stored.stored_solve(tmp_path / "low.npz", atm, *ray, samples=64, max_order=low, guide_events=None)
+    solved = []
+    monkeypatch.setattr(stored, "solve", lambda *a, **k: solved.append(k["guide_events"]) or solve(*a, **k))
+    stored.stored_solve(tmp_path / "low.npz", atm, *ray, samples=64, max_order=low)
+    assert solved == []
+    stored.stored_solve(tmp_path / "every.npz", atm, *ray, samples=64)
+    assert solved == [GUIDE_EVENTS]
+
+
 def _daylight_rays():
     """(cameras, views, suns) of 6 Earth daylight rays from the ground and the air (2 m to 10 km, the sun 10-60
     deg up), for comparisons of two estimates of the same radiance."""
@@ -307,13 +328,14 @@ def test_quasi_monte_carlo_agrees_with_independent_paths_and_is_more_precise():
 
 def test_the_guide_at_the_first_events_only_leaves_the_estimate_unbiased():
     # ``guide_events`` changes only how new directions are drawn past a path's first events (the phase function
-    # alone, weight 1, instead of the mixture with the guide around the sun): the three estimates of the same
-    # daylight radiances (from the ground and the air, all orders, independent seeds) agree within 4.5 combined
-    # standard errors (18 comparisons each: a correct pair fails with probability ~1e-4). With the weight left as
-    # the mixture's where the draw follows the phase alone, the comparison fails.
+    # alone, weight 1, instead of the mixture with the guide around the sun): the estimates with the guide at
+    # every event, at none, at the first 2 and at the first GUIDE_EVENTS (the default) of the same daylight
+    # radiances (from the ground and the air, all orders, independent seeds) agree within 4.5 combined standard
+    # errors (18 comparisons each: a correct pair fails with probability ~1e-4). With the weight left as the
+    # mixture's where the draw follows the phase alone, the comparison fails.
     cam, view, sun = _daylight_rays()
-    every = solve(EARTH, cam, view, sun, samples=1024, seed=5)
-    for guide_events, seed in ((0, 6), (2, 7)):
+    every = solve(EARTH, cam, view, sun, samples=1024, seed=5, guide_events=None)
+    for guide_events, seed in ((0, 6), (2, 7), (GUIDE_EVENTS, 8)):
         first = solve(EARTH, cam, view, sun, samples=1024, seed=seed, guide_events=guide_events)
         z = np.abs(first.radiance - every.radiance) / np.hypot(first.stderr, every.stderr)
         assert np.all(z < 4.5), (guide_events, z)

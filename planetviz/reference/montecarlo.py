@@ -68,10 +68,12 @@ SOLVER_VERSION = "5"
 #: ``planetviz sky`` (median relative standard errors in docs/benchmarks.md).
 QUALITY_SAMPLES = {"draft": 512, "standard": 4096, "high": 32768}
 #: Probability of drawing a new direction from the guide pdf around the sun; the guide's own lobe; the g
-#: above which a Mie lobe (of any weight) joins the guide.
+#: above which a Mie lobe (of any weight) joins the guide; the events of a path (from its first) whose new
+#: direction may come from the guide (:func:`solve`'s ``guide_events``).
 EPSILON = 0.25
 GUIDE_SUN_G = 0.7
 GUIDE_MIN_G = 0.3
+GUIDE_EVENTS = 3
 #: Russian roulette starts after this many events; a path survives with probability weight / (its weight
 #: after the first event), at least ROULETTE_MIN (so a survivor's weight grows at most 1 / ROULETTE_MIN-fold).
 ROULETTE_ORDER = 3
@@ -107,7 +109,7 @@ class ReferenceResult:
 
 def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, max_order: int | None = None,
           single: str = "quadrature", workers: int | None = None, batch_paths: int = 65536,
-          sampler: str = "sobol", guide_events: int | None = None) -> ReferenceResult:
+          sampler: str = "sobol", guide_events: int | None = GUIDE_EVENTS) -> ReferenceResult:
     """Reference radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
 
     ``samples`` paths per ray and wavelength; ``seed`` fixes the result whatever ``workers`` is (default:
@@ -118,7 +120,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
     drawn from the guide around the sun, the first ``guide_events`` (None: every event). Past them the direction
     follows the phase function (the cosine law at the ground) alone, with weight 1: over the tens of events of
     light diffusing through an optically thick atmosphere the guide's weights, phase / mixture pdf up to
-    1 / (1 - EPSILON) each, multiply into a heavy tail (docs/benchmarks.md, "Reference solver").
+    1 / (1 - EPSILON) each, would multiply into a heavy tail (docs/benchmarks.md, "Reference solver").
 
     Example
     -------
@@ -179,7 +181,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
 
 
 def path_contributions(atm, w, camera, view_dir, sun_dir, samples: int, seed: int = 0,
-                       guide_events: int | None = None) -> np.ndarray:
+                       guide_events: int | None = GUIDE_EVENTS) -> np.ndarray:
     """The orders >= 2 of ``samples`` independent paths (``sampler="random"``) of one ray (camera (3,) [m],
     view_dir, sun_dir) at wavelength index w, each path's own contribution [1/sr] (samples,): their mean is
     :func:`solve`'s estimate of those orders; how few of them carry the sum shows a heavy tail that a standard

@@ -1,8 +1,9 @@
 """Reference results computed once and kept in .npz files with everything they depend on.
 
 A stored result holds the radiance, its standard error and the view transmittance, with the atmosphere's
-parameters (JSON, :func:`radiance_parameters`), the rays, the paths per ray, the seed, :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`
-and, for a result of the first orders only, ``max_order``.
+parameters (JSON, :func:`radiance_parameters`), the rays, the paths per ray, the seed, :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`,
+for a result of the first orders only ``max_order``, and the solver's ``guide_events`` where it changes the
+estimator (a result of orders up to ``guide_events + 1`` draws every new direction from the guide whatever it is).
 :func:`stored_solve` returns it while all of those match the request and recomputes (and rewrites) it when any
 differs or the file cannot be read. :func:`stored_reference` names the file after a tag and the rays, for a
 folder of such results (the repository's benchmarks/data/ for its tests and benchmarks).
@@ -17,13 +18,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .montecarlo import SOLVER_VERSION, ReferenceResult, solve
+from .montecarlo import GUIDE_EVENTS, SOLVER_VERSION, ReferenceResult, solve
 
 
 def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
-                 max_order: int | None = None) -> ReferenceResult:
+                 max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS) -> ReferenceResult:
     """:func:`~planetviz.reference.solve` through the file ``path`` (.npz), recomputed when stale. ``max_order``:
-    the orders of scattering solved (all by default), stored with the result.
+    the orders of scattering solved (all by default), ``guide_events`` the solver's, stored with the result.
 
     Example
     -------
@@ -42,10 +43,13 @@ def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int =
               "seed": seed}
     if max_order is not None:
         wanted["max_order"] = max_order
+    if guide_events is not None and (max_order is None or max_order > guide_events + 1):
+        wanted["guide_events"] = guide_events
     stored = _load(path, wanted, (camera, view_dir, sun_dir))
     if stored is not None:
         return stored
-    res = solve(atm, camera, view_dir, sun_dir, samples=samples, seed=seed, max_order=max_order)
+    res = solve(atm, camera, view_dir, sun_dir, samples=samples, seed=seed, max_order=max_order,
+                guide_events=guide_events)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp.npz")
     np.savez(tmp, radiance=res.radiance, radiance_stderr=res.stderr, transmittance=res.transmittance,
@@ -62,13 +66,13 @@ def radiance_parameters(atm) -> str:
 
 
 def stored_reference(folder, tag, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
-                     max_order: int | None = None) -> ReferenceResult:
+                     max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS) -> ReferenceResult:
     """:func:`stored_solve` through ``folder/test-<tag>-<hash of the rays>.npz`` (the rays hashed in float32, so
     that rays computed on another machine, which may differ in the last bit of float64, name the same file)."""
     rays = np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (camera, view_dir, sun_dir)])
     name = f"test-{tag}-{hashlib.sha1(rays.astype(np.float32).tobytes()).hexdigest()[:10]}.npz"
     return stored_solve(Path(folder) / name, atm, camera, view_dir, sun_dir, samples=samples, seed=seed,
-                        max_order=max_order)
+                        max_order=max_order, guide_events=guide_events)
 
 
 #: Relative tolerance of the match between stored and requested rays and parameters: rays and atmospheres drawn
@@ -95,7 +99,7 @@ def _load(path, wanted, rays):
         with np.load(path) as f:
             if not _same(json.loads(str(f["parameters"])), json.loads(wanted["parameters"])):
                 return None
-            if ("max_order" in f.files) != ("max_order" in wanted) or \
+            if any((key in f.files) != (key in wanted) for key in ("max_order", "guide_events")) or \
                     any(str(f[key]) != str(value) for key, value in wanted.items() if key != "parameters"):
                 return None
             scale = max(float(np.max(np.abs(rays[0]))), 1.0)            # cameras in metres, directions unit
