@@ -95,6 +95,8 @@ STRATA = 16
 DEFENSIVE = 0.1
 #: The factor within which T_sun may vary along a segment for :func:`_strata` to take it as constant.
 SUN_FLAT = 2.0
+#: Paths whose work along their segments' nodes is done together (:func:`_chunks`).
+CHUNK_PATHS = 4096
 
 
 @dataclass
@@ -387,6 +389,13 @@ def _extinction_along(atm, w, p, d, t):
     return atm.extinction(r - atm.bottom_radius_m, w)[..., 0]
 
 
+def _chunks(count):
+    """Slices of at most CHUNK_PATHS of ``count`` paths: the temporaries of the per-node work on one of them stay
+    within a few megabytes, which the allocator reuses; the whole batch's (up to hundreds of megabytes) would be
+    mapped from the system and its pages faulted in afresh at every step."""
+    return [slice(lo, lo + CHUNK_PATHS) for lo in range(0, count, CHUNK_PATHS)]
+
+
 def segment_optical_depth(atm, w, p, d, length):
     """(node distances (P, K+1), cumulative tau at the nodes (P, K+1)) along p + t d, t in [0, length].
 
@@ -400,8 +409,10 @@ def segment_optical_depth(atm, w, p, d, length):
     t[:, 0], t[:, -1] = 0.0, length
     a, b = t[:, :-1], t[:, 1:]
     mid, rad = 0.5 * (a + b), 0.5 * (b - a)
-    sig = _extinction_along(atm, w, p, d, mid[..., None] + rad[..., None] * _GL4_X)
-    dtau = rad * (sig * _GL4_W).sum(-1)
+    dtau = np.empty(mid.shape)
+    for rows in _chunks(len(p)):
+        sig = _extinction_along(atm, w, p[rows], d[rows], mid[rows, :, None] + rad[rows, :, None] * _GL4_X)
+        dtau[rows] = rad[rows] * (sig * _GL4_W).sum(-1)
     tau = np.concatenate([np.zeros((len(p), 1)), np.cumsum(dtau, axis=1)], axis=1)
     return t, tau
 
@@ -413,24 +424,46 @@ def _tau_between(atm, w, p, d, a, b):
     return rad * (sig * _GL8_W).sum(-1)
 
 
+def _count_at_most(rows, values):
+    """For each row of ``rows`` (P, M), ascending, how many of its entries are <= each of its ``values`` (P,) or
+    (P, Q): (rows <= value).sum() by a binary search, without a (P, Q, M) array."""
+    m = rows.shape[1]
+    flat = values.reshape(len(rows), -1)
+    count = np.zeros(flat.shape, dtype=np.int64)
+    step = 1 << (m.bit_length() - 1)
+    while step:
+        wider = count + step
+        inside = wider <= m
+        below = np.take_along_axis(rows, np.minimum(wider, m) - 1, 1) <= flat
+        count = np.where(inside & below, wider, count)
+        step >>= 1
+    return count.reshape(values.shape)
+
+
+def _at(rows, k):
+    """rows (P, M) at the indices k (P,) or (P, Q) of each row."""
+    return np.take_along_axis(rows, k.reshape(len(rows), -1), 1).reshape(k.shape)
+
+
 def _locate(t_nodes, tau, t):
-    """(node index k before t, sigma~ = d tau~ / dt there, tau~(t)) of the piecewise-linear tau~ at t (P,)."""
-    k = np.clip((t_nodes <= t[:, None]).sum(axis=1) - 1, 0, t_nodes.shape[1] - 2)
-    rows = np.arange(len(t))
-    dt = t_nodes[rows, k + 1] - t_nodes[rows, k]
-    dtau = tau[rows, k + 1] - tau[rows, k]
+    """(node index k before t, sigma~ = d tau~ / dt there, tau~(t)) of the piecewise-linear tau~ at t (P,) or
+    (P, Q)."""
+    k = np.clip(_count_at_most(t_nodes, t) - 1, 0, t_nodes.shape[1] - 2)
+    t_k, tau_k = _at(t_nodes, k), _at(tau, k)
+    dt = _at(t_nodes, k + 1) - t_k
+    dtau = _at(tau, k + 1) - tau_k
     sigma = np.where(dt > 0, dtau / np.where(dt > 0, dt, 1.0), 0.0)
-    return k, sigma, tau[rows, k] + sigma * np.clip(t - t_nodes[rows, k], 0.0, dt)
+    return k, sigma, tau_k + sigma * np.clip(t - t_k, 0.0, dt)
 
 
 def _invert(t_nodes, tau, target):
-    """The distance t where tau~(t) = ``target`` (< tau[-1])."""
-    k = np.clip((tau <= target[:, None]).sum(axis=1) - 1, 0, t_nodes.shape[1] - 2)
-    rows = np.arange(len(target))
-    dt = t_nodes[rows, k + 1] - t_nodes[rows, k]
-    dtau = tau[rows, k + 1] - tau[rows, k]
-    frac = np.where(dtau > 0, (target - tau[rows, k]) / np.where(dtau > 0, dtau, 1.0), 0.0)
-    return t_nodes[rows, k] + np.clip(frac, 0.0, 1.0) * dt
+    """The distance t where tau~(t) = ``target`` (P,) or (P, Q) (< tau[-1])."""
+    k = np.clip(_count_at_most(tau, target) - 1, 0, t_nodes.shape[1] - 2)
+    t_k, tau_k = _at(t_nodes, k), _at(tau, k)
+    dt = _at(t_nodes, k + 1) - t_k
+    dtau = _at(tau, k + 1) - tau_k
+    frac = np.where(dtau > 0, (target - tau_k) / np.where(dtau > 0, dtau, 1.0), 0.0)
+    return t_k + np.clip(frac, 0.0, 1.0) * dt
 
 
 def collision_point(atm, w, p, d, t_nodes, tau, t):
@@ -468,9 +501,7 @@ class _LitMass:
 
     def mass(self, ok, t):
         """The lit collision mass before the distances t (P, K) of the segments ``ok`` (t outside the shadow)."""
-        tn, tb = self.t_nodes[ok], self.tau[ok]
-        k = t.shape[1]
-        f = -np.expm1(-_locate(np.repeat(tn, k, 0), np.repeat(tb, k, 0), t.ravel())[2]).reshape(t.shape)
+        f = -np.expm1(-_locate(self.t_nodes[ok], self.tau[ok], t)[2])
         return np.where(t <= self.a[ok, None], f, self.f_a[ok, None] + f - self.f_b[ok, None])
 
     def position(self, ok, u):
@@ -480,8 +511,7 @@ class _LitMass:
         f = np.where(u < m1, u, f_b + (u - m1))
         with np.errstate(divide="ignore"):                       # f = 1 where the segment is opaque
             target = np.minimum(-np.log1p(-np.minimum(f, f_end)), tb[:, -1:])
-        k = target.shape[1]
-        return _invert(np.repeat(tn, k, 0), np.repeat(tb, k, 0), target.ravel()).reshape(len(tn), k)
+        return _invert(tn, tb, target)
 
 
 def _sun_bound(atm, w, x, sun, t, p, d):

@@ -14,6 +14,8 @@ import numpy as np
 from ..model.geometry import distance_to_ground, distance_to_top_exit, ray_sphere
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
+#: Quadrature nodes (segments x nodes per segment) that :func:`optical_depth` evaluates together.
+CHUNK_NODES = 1 << 18
 
 
 def gauss_legendre_panels(panels: int):
@@ -44,14 +46,19 @@ def optical_depth(atm, origin, direction, length, panels: int = 8, index=None):
     perp = o - b[..., None] * d
     q = np.einsum("...i,...i->...", perp, perp)
     u, w = gauss_legendre_panels(panels)
-    tau = np.zeros(o.shape[:-1] + ((atm.n_wavelengths,) if index is None else (1,)))
-    # Part 1: t from tc down to 0; part 2: t from tc up to length.
-    for sign, span in ((-1.0, tc), (1.0, length - tc)):
-        t = tc[..., None] + sign * span[..., None] * u * u          # (..., K)
-        jac = 2.0 * span[..., None] * u * w                          # dt = 2 span u du
-        h = np.sqrt((t + b[..., None]) ** 2 + q[..., None]) - atm.bottom_radius_m
-        tau += np.einsum("...k,...kw->...w", jac, atm.extinction(h, index))
-    return tau
+    shape = o.shape[:-1]
+    b, tc, q, length = (np.broadcast_to(a, shape).ravel() for a in (b, tc, q, length))
+    tau = np.zeros((b.size, atm.n_wavelengths if index is None else 1))
+    # In chunks of segments whose nodes' temporaries stay within a few megabytes (reused by the allocator).
+    for lo in range(0, b.size, max(1, CHUNK_NODES // len(u))):
+        rows = slice(lo, lo + max(1, CHUNK_NODES // len(u)))
+        # Part 1: t from tc down to 0; part 2: t from tc up to length.
+        for sign, span in ((-1.0, tc[rows]), (1.0, length[rows] - tc[rows])):
+            t = tc[rows, None] + sign * span[:, None] * u * u          # (n, K)
+            jac = 2.0 * span[:, None] * u * w                          # dt = 2 span u du
+            h = np.sqrt((t + b[rows, None]) ** 2 + q[rows, None]) - atm.bottom_radius_m
+            tau[rows] += np.einsum("...k,...kw->...w", jac, atm.extinction(h, index))
+    return tau.reshape(shape + tau.shape[-1:])
 
 
 def shell_segment(origin, direction, top_radius):
