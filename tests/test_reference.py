@@ -1,13 +1,17 @@
 """The reference solver against closed forms, deterministic quadrature and energy conservation."""
+import importlib
+
 import numpy as np
 import pytest
 
 from planetviz import load_atmosphere
 from planetviz.reference import optical_depth, single_scattering, solve
+from planetviz.reference import montecarlo
 from planetviz.reference.montecarlo import GUIDE_EVENTS, segment_optical_depth
 
 EARTH = load_atmosphere("earth")
 R = EARTH.bottom_radius_m
+optical_depth_module = importlib.import_module("planetviz.reference.optical_depth")   # the package's name is the function's
 
 
 def atmosphere(**changes):
@@ -60,6 +64,34 @@ def test_segment_tables_agree_with_optical_depth():
         ref = optical_depth(EARTH, p, d, length, panels=512, index=w)[:, 0]
         assert np.allclose(tau[:, -1], ref, rtol=5e-5)
         assert np.allclose(optical_depth(EARTH, p, d, length, index=w)[:, 0], ref, rtol=5e-5)
+
+
+def test_the_node_search_counts_as_a_comparison_with_every_node_does():
+    # _count_at_most bisects each ascending row; against the plain count of the nodes <= each value, exact, on rows
+    # with repeated nodes (zero-length segments) and values on, between and outside the nodes.
+    rng = np.random.default_rng(4)
+    for m in (2, 3, 65, 100):
+        rows = np.sort(rng.choice(np.linspace(0.0, 1.0, 11), size=(50, m)), axis=1)
+        values = np.concatenate([rng.uniform(-0.2, 1.2, (50, 7)), rows[:, rng.integers(0, m, 3)]], axis=1)
+        want = (rows[:, None, :] <= values[:, :, None]).sum(axis=2)
+        assert np.array_equal(montecarlo._count_at_most(rows, values), want)
+        assert np.array_equal(montecarlo._count_at_most(rows, values[:, 0]), want[:, 0])
+
+
+def test_optical_depth_in_chunks_is_the_same_to_the_last_bit(monkeypatch):
+    # The chunks only bound the temporaries: each segment's sum is the same whatever the chunk it falls in.
+    rng = np.random.default_rng(5)
+    o = np.array([0.0, 0.0, R]) + rng.uniform(0.0, 5e4, (300, 3))
+    d = rng.normal(size=(300, 3))
+    d[:, 2] = np.abs(d[:, 2]) + 0.05                       # upward: in the air all along
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    whole = optical_depth(EARTH, o, d, np.inf)
+    whole_path = segment_optical_depth(EARTH, 1, o, d, np.full(300, 2e5))
+    monkeypatch.setattr(optical_depth_module, "CHUNK_NODES", 7 * 128)
+    monkeypatch.setattr(montecarlo, "CHUNK_PATHS", 13)
+    assert np.array_equal(optical_depth(EARTH, o, d, np.inf), whole)
+    for got, want in zip(segment_optical_depth(EARTH, 1, o, d, np.full(300, 2e5)), whole_path):
+        assert np.array_equal(got, want)
 
 
 def test_zero_density_ground_is_exact():
