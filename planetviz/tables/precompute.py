@@ -43,7 +43,7 @@ from .validated import strongest_forward_lobe, thick_forward_lobe
 class TableSizes:
     """Table resolutions and sample counts (see ``QUALITY`` for the named levels)."""
 
-    transmittance: tuple = (256, 128)         # (n_mu, n_r)
+    transmittance: tuple = (256, 256)         # (n_mu, n_r)
     irradiance: tuple = (256, 16)             # (n_mu_s, n_r)
     scattering: tuple = (8, 48, 192, 32)      # (n_nu, n_mu_s, n_mu, n_r)
     transmittance_samples: int = 64           # Gauss-Legendre nodes per side of the closest approach
@@ -62,7 +62,7 @@ QUALITY = {
     "draft": TableSizes(transmittance=(128, 64), irradiance=(64, 8), scattering=(4, 16, 64, 16),
                         transmittance_samples=16, scattering_samples=6, multiple=(4, 16, 32, 8),
                         lobe_nu=4, lobe_mu_s=16, multiple_samples=4, directions=(8, 8), tolerance=1e-2),
-    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 120, 32), scattering_samples=8,
+    "standard": TableSizes(irradiance=(128, 16), scattering=(8, 48, 118, 32), scattering_samples=8,
                            multiple=(4, 32, 64, 16), multiple_samples=4, directions=(10, 10), tolerance=3e-3),
     "high": TableSizes(),
 }
