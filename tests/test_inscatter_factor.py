@@ -24,7 +24,7 @@ from planetviz.tables.lookup import (get_irradiance, get_optical_depth, get_opti
                                      one_minus_exp, ray_opacity)
 from planetviz.tables.parameterization import MU_S_MIN
 from planetviz.tables.multiple import forward_factor
-from planetviz.tables.nodes import altitude, scattering_share
+from planetviz.tables.nodes import altitude, ray_nodes, scattering_share
 from planetviz.tables.precompute import transmittance_rays
 from planetviz.tables.parameterization import (distance_to_bottom_atmosphere_boundary,
                                                distance_to_top_atmosphere_boundary, ray_intersects_ground)
@@ -189,6 +189,24 @@ def share_rays(atm, a):
     top = atm.top_radius_m - atm.bottom_radius_m
     mu, d, _ = path_opacity_rays(min(a, top), atm.bottom_radius_m, atm.top_radius_m)
     return np.full(mu[::7].shape, atm.bottom_radius_m + min(a, top)), mu[::7], d[::7]
+
+
+def test_ascending_ray_nodes_are_the_nodes_in_the_order_of_t():
+    # The share sums its cells in the order of t along each ray; ray_nodes(..., ascending=True) must give the same
+    # nodes and weights as the default, sorted: on rays up, down to the ground, ending before or past their closest
+    # approach, and segments from a start beyond 0.
+    earth = load_atmosphere("earth")
+    rng = np.random.default_rng(6)
+    r = rng.uniform(earth.bottom_radius_m, earth.top_radius_m, 2000)
+    mu = rng.uniform(-1.0, 1.0, 2000)
+    start = rng.choice([0.0, 5e3], 2000) * rng.uniform(0.0, 1.0, 2000)
+    d = start + rng.uniform(0.0, 2e6, 2000)
+    t, w = ray_nodes(r, mu, d, 8, start=start)
+    got_t, got_w = ray_nodes(r, mu, d, 8, start=start, ascending=True)
+    order = np.argsort(t, axis=-1, kind="stable")
+    assert np.all(np.diff(got_t, axis=-1) >= 0.0)
+    np.testing.assert_array_equal(got_t, np.take_along_axis(t, order, -1))
+    np.testing.assert_array_equal(got_w, np.take_along_axis(w, order, -1))
 
 
 @pytest.mark.parametrize("a", [2.0, 1e4, 1e9])

@@ -36,12 +36,13 @@ def gauss_legendre_unit(n):
     return 0.5 * (x + 1.0), 0.5 * w
 
 
-def ray_nodes(r, mu, d, n, start=0.0):
+def ray_nodes(r, mu, d, n, start=0.0, ascending=False):
     """Quadrature nodes t (..., 2n) and weights on [start, d] along (r, mu), clustered at the closest approach.
 
     Gauss-Legendre with t = t_c -+ span u^2 on each side of the closest approach t_c (clamped to the segment);
     where t_c is an end of the segment (rays going up, or reaching the ground before their closest approach)
-    all 2n nodes go to the one side there is.
+    all 2n nodes go to the one side there is. ``ascending``: the nodes in the order of t along every ray (the
+    same nodes and weights; by default each side runs outward from t_c).
     """
     u, wu = gauss_legendre_unit(n)
     u2, wu2 = gauss_legendre_unit(2 * n)
@@ -53,10 +54,15 @@ def ray_nodes(r, mu, d, n, start=0.0):
     after = tc + (dd - tc) * u * u                # t from t_c up to d
     wb = 2.0 * (tc - s) * u * wu
     wa = 2.0 * (dd - tc) * u * wu
-    t, wt = np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
     span = dd - s
-    t = np.where(tc <= s, s + span * u2 * u2, np.where(tc >= dd, dd - span * u2 * u2, t))
-    wt = np.where((tc <= s) | (tc >= dd), 2.0 * span * u2 * wu2, wt)
+    up, w_up = s + span * u2 * u2, 2.0 * span * u2 * wu2          # all at one side: from start up
+    down = dd - span * u2 * u2                                     # or from d down
+    w_down = w_up
+    if ascending:
+        before, wb, down, w_down = before[..., ::-1], wb[..., ::-1], down[..., ::-1], w_up[..., ::-1]
+    t, wt = np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
+    t = np.where(tc <= s, up, np.where(tc >= dd, down, t))
+    wt = np.where(tc <= s, w_up, np.where(tc >= dd, w_down, wt))
     return t, wt
 
 
@@ -156,9 +162,7 @@ def scattering_share(atm, r, mu, d, n, wavelengths=None):
     it for the rays through it and leaves the rays in front of it alone. ``wavelengths``: a slice of the
     atmosphere's wavelengths (W' of them; default all)."""
     wavelengths = slice(None) if wavelengths is None else wavelengths
-    t, w = ray_nodes(r, mu, d, n)
-    order = np.argsort(t, axis=-1)
-    t, w = np.take_along_axis(t, order, -1), np.take_along_axis(w, order, -1)
+    t, w = ray_nodes(r, mu, d, n, ascending=True)
     h = altitude(np.asarray(r, float)[..., None], np.asarray(mu, float)[..., None], t, atm.bottom_radius_m)
     components = atm.components()
     density = np.stack([profile.density(h) for _, _, profile in components], axis=-1)       # (N, K, C)
