@@ -58,7 +58,7 @@ import numpy as np
 
 from ..model.geometry import distance_to_ground, distance_to_top_exit
 from ..model.optics.phase import PENNDORF_A, henyey_greenstein, sample_henyey_greenstein, sample_rayleigh_like
-from .optical_depth import shell_segment, sun_transmittance, view_transmittance
+from .optical_depth import chunks, shell_segment, sun_transmittance, view_transmittance
 from .shadow import shadow_interval
 from .single import single_scattering
 
@@ -95,7 +95,7 @@ STRATA = 16
 DEFENSIVE = 0.1
 #: The factor within which T_sun may vary along a segment for :func:`_strata` to take it as constant.
 SUN_FLAT = 2.0
-#: Paths whose work along their segments' nodes is done together (:func:`_chunks`).
+#: Paths whose work along their segments' nodes is done together (``optical_depth.chunks``).
 CHUNK_PATHS = 4096
 
 
@@ -389,13 +389,6 @@ def _extinction_along(atm, w, p, d, t):
     return atm.extinction(r - atm.bottom_radius_m, w)[..., 0]
 
 
-def _chunks(count):
-    """Slices of at most CHUNK_PATHS of ``count`` paths: the temporaries of the per-node work on one of them stay
-    within a few megabytes, which the allocator reuses; the whole batch's (up to hundreds of megabytes) would be
-    mapped from the system and its pages faulted in afresh at every step."""
-    return [slice(lo, lo + CHUNK_PATHS) for lo in range(0, count, CHUNK_PATHS)]
-
-
 def segment_optical_depth(atm, w, p, d, length):
     """(node distances (P, K+1), cumulative tau at the nodes (P, K+1)) along p + t d, t in [0, length].
 
@@ -410,7 +403,7 @@ def segment_optical_depth(atm, w, p, d, length):
     a, b = t[:, :-1], t[:, 1:]
     mid, rad = 0.5 * (a + b), 0.5 * (b - a)
     dtau = np.empty(mid.shape)
-    for rows in _chunks(len(p)):
+    for rows in chunks(len(p), CHUNK_PATHS):
         sig = _extinction_along(atm, w, p[rows], d[rows], mid[rows, :, None] + rad[rows, :, None] * _GL4_X)
         dtau[rows] = rad[rows] * (sig * _GL4_W).sum(-1)
     tau = np.concatenate([np.zeros((len(p), 1)), np.cumsum(dtau, axis=1)], axis=1)

@@ -18,6 +18,14 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
 CHUNK_NODES = 1 << 18
 
 
+def chunks(count: int, size: int) -> list:
+    """Slices of at most ``size`` (at least 1) of ``count`` rows: work on one of them keeps its temporaries within a
+    few megabytes, which the allocator reuses, where the whole batch's (hundreds of megabytes) would be mapped from
+    the system and its pages faulted in afresh at every call."""
+    size = max(1, size)
+    return [slice(lo, lo + size) for lo in range(0, count, size)]
+
+
 def gauss_legendre_panels(panels: int):
     """Composite Gauss-Legendre nodes u in [0, 1] and weights, ``panels`` x 16 points."""
     edges = np.linspace(0.0, 1.0, panels + 1)
@@ -49,9 +57,7 @@ def optical_depth(atm, origin, direction, length, panels: int = 8, index=None):
     shape = o.shape[:-1]
     b, tc, q, length = (np.broadcast_to(a, shape).ravel() for a in (b, tc, q, length))
     tau = np.zeros((b.size, atm.n_wavelengths if index is None else 1))
-    # In chunks of segments whose nodes' temporaries stay within a few megabytes (reused by the allocator).
-    for lo in range(0, b.size, max(1, CHUNK_NODES // len(u))):
-        rows = slice(lo, lo + max(1, CHUNK_NODES // len(u)))
+    for rows in chunks(b.size, CHUNK_NODES // len(u)):
         # Part 1: t from tc down to 0; part 2: t from tc up to length.
         for sign, span in ((-1.0, tc[rows]), (1.0, length[rows] - tc[rows])):
             t = tc[rows, None] + sign * span[:, None] * u * u          # (n, K)

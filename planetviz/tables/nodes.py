@@ -56,8 +56,7 @@ def ray_nodes(r, mu, d, n, start=0.0, ascending=False):
     wa = 2.0 * (dd - tc) * u * wu
     span = dd - s
     up, w_up = s + span * u2 * u2, 2.0 * span * u2 * wu2          # all at one side: from start up
-    down = dd - span * u2 * u2                                     # or from d down
-    w_down = w_up
+    down, w_down = dd - span * u2 * u2, w_up                       # or from d down
     if ascending:
         before, wb, down, w_down = before[..., ::-1], wb[..., ::-1], down[..., ::-1], w_up[..., ::-1]
     t, wt = np.concatenate([before, after], -1), np.concatenate([wb, wa], -1)
