@@ -95,6 +95,12 @@ STRATA = 16
 DEFENSIVE = 0.1
 #: The factor within which T_sun may vary along a segment for :func:`_strata` to take it as constant.
 SUN_FLAT = 2.0
+#: How a path's collision along a segment is drawn (:func:`_collide`; :func:`solve`'s ``collisions``):
+#: "extinction", in proportion to the collision mass beta_ext exp(-tau) (the piecewise-linear tau~ through the
+#: segment's nodes); "scattering", in proportion to the scattering part of it, beta_scat exp(-tau), tabulated per
+#: interval between the nodes (:func:`_scattering_collision`), so that where an absorbing layer holds most of a
+#: long ray's extinction the scattering air is not left to rare draws of large weight.
+COLLISIONS = ("extinction", "scattering")
 #: Paths whose work along their segments' nodes is done together (``optical_depth.chunks``).
 CHUNK_PATHS = 4096
 
@@ -111,7 +117,8 @@ class ReferenceResult:
 
 def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, max_order: int | None = None,
           single: str = "quadrature", workers: int | None = None, batch_paths: int = 65536,
-          sampler: str = "sobol", guide_events: int | None = GUIDE_EVENTS) -> ReferenceResult:
+          sampler: str = "sobol", guide_events: int | None = GUIDE_EVENTS,
+          collisions: str = "extinction") -> ReferenceResult:
     """Reference radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
 
     ``samples`` paths per ray and wavelength; ``seed`` fixes the result whatever ``workers`` is (default:
@@ -123,6 +130,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
     follows the phase function (the cosine law at the ground) alone, with weight 1: over the tens of events of
     light diffusing through an optically thick atmosphere the guide's weights, phase / mixture pdf up to
     1 / (1 - EPSILON) each, would multiply into a heavy tail (docs/benchmarks.md, "Reference solver").
+    ``collisions``: how a collision along a segment is drawn (:data:`COLLISIONS`).
 
     Example
     -------
@@ -140,6 +148,8 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
         raise ValueError(f"sampler: must be one of {SAMPLERS}, got {sampler!r}")
     if guide_events is not None and (not isinstance(guide_events, (int, np.integer)) or guide_events < 0):
         raise ValueError(f"guide_events: must be None or an integer >= 0, got {guide_events!r}")
+    if collisions not in COLLISIONS:
+        raise ValueError(f"collisions: must be one of {COLLISIONS}, got {collisions!r}")
     camera = np.atleast_2d(np.asarray(camera, dtype=float))
     view = np.atleast_2d(np.asarray(view_dir, dtype=float))
     view = view / np.linalg.norm(view, axis=-1, keepdims=True)
@@ -162,7 +172,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
                  for w in range(atm.n_wavelengths) for lo in range(0, n, per_block)
                  for c in range(-(-samples // chunk))]
         args = [(atm, w, camera[lo:hi], view[lo:hi], sun[lo:hi], paths, (seed, w, lo) + ((c,) if c else ()),
-                 first, limit, sampler, guide_events) for w, lo, hi, c, paths in tasks]
+                 first, limit, sampler, guide_events, collisions) for w, lo, hi, c, paths in tasks]
         if workers is None:
             workers = (os.cpu_count() or 1) if n * samples * atm.n_wavelengths > 20_000 else 1
         if workers > 1 and len(tasks) > 1:
@@ -183,7 +193,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
 
 
 def path_contributions(atm, w, camera, view_dir, sun_dir, samples: int, seed: int = 0,
-                       guide_events: int | None = GUIDE_EVENTS) -> np.ndarray:
+                       guide_events: int | None = GUIDE_EVENTS, collisions: str = "extinction") -> np.ndarray:
     """The orders >= 2 of ``samples`` independent paths (``sampler="random"``) of one ray (camera (3,) [m],
     view_dir, sun_dir) at wavelength index w, each path's own contribution [1/sr] (samples,): their mean is
     :func:`solve`'s estimate of those orders; how few of them carry the sum shows a heavy tail that a standard
@@ -201,18 +211,18 @@ def path_contributions(atm, w, camera, view_dir, sun_dir, samples: int, seed: in
     view = view / np.linalg.norm(view, axis=-1, keepdims=True)
     sun = sun / np.linalg.norm(sun, axis=-1, keepdims=True)
     uniforms = _Uniforms.make("random", 1, samples, np.random.default_rng(seed))
-    return _trace(atm, w, camera, view, sun, uniforms, 2, np.iinfo(np.int64).max, guide_events)
+    return _trace(atm, w, camera, view, sun, uniforms, 2, np.iinfo(np.int64).max, guide_events, collisions)
 
 
 def _task(args):
     """(mean, squared standard error of the mean) per ray, of one block of rays and paths at one wavelength."""
-    atm, w, camera, view, sun, samples, key, first, limit, sampler, guide_events = args
+    atm, w, camera, view, sun, samples, key, first, limit, sampler, guide_events, collisions = args
     rng = np.random.default_rng(np.random.SeedSequence(list(key)))
     n = len(camera)
     rep = np.repeat(np.arange(n), samples)
     uniforms = _Uniforms.make(sampler, n, samples, rng)
-    contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], uniforms, first, limit,
-                     guide_events).reshape(n, samples)
+    contrib = _trace(atm, w, camera[rep], view[rep], sun[rep], uniforms, first, limit, guide_events,
+                     collisions).reshape(n, samples)
     return uniforms.mean_and_variance(contrib)
 
 
@@ -379,14 +389,18 @@ _GL8_X, _GL8_W = np.polynomial.legendre.leggauss(8)
 _SEGMENT_INTERVALS = 64
 
 
-def _extinction_along(atm, w, p, d, t):
-    """beta_ext [1/m] at p + t d (t shaped (P, ...)), from the distance to the centre without cancellation."""
+def _height_along(atm, p, d, t):
+    """The altitude [m] of p + t d (t shaped (P, ...)), from the distance to the centre without cancellation."""
     b = np.einsum("ij,ij->i", p, d)
     perp = p - b[:, None] * d
     q = np.einsum("ij,ij->i", perp, perp)
     shape = (len(p),) + (1,) * (t.ndim - 1)
-    r = np.sqrt((t + b.reshape(shape)) ** 2 + q.reshape(shape))
-    return atm.extinction(r - atm.bottom_radius_m, w)[..., 0]
+    return np.sqrt((t + b.reshape(shape)) ** 2 + q.reshape(shape)) - atm.bottom_radius_m
+
+
+def _extinction_along(atm, w, p, d, t):
+    """beta_ext [1/m] at p + t d (t shaped (P, ...))."""
+    return atm.extinction(_height_along(atm, p, d, t), w)[..., 0]
 
 
 def segment_optical_depth(atm, w, p, d, length):
@@ -607,9 +621,10 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, u):
     return out
 
 
-def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=None):
+def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=None, collisions="extinction"):
     """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w; the
-    guide around the sun at the first ``guide_events`` events of each path (None: every event; :func:`solve`).
+    guide around the sun at the first ``guide_events`` events of each path (None: every event; :func:`solve`),
+    the collisions drawn as ``collisions`` says (:data:`COLLISIONS`).
 
     Each step, for the live paths: the segment from the last vertex along its direction to the ground or to
     space and its optical depth; the light of the next vertex straight from the sun (:func:`_next_event`);
@@ -647,7 +662,7 @@ def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=
         if np.any(collide):
             ci = np.nonzero(collide)[0]
             _collide(atm, w, paths, idx[ci], p[ci], dd[ci], sun, t_nodes[ci], tau[ci], absorbed[ci],
-                     p_collide[ci], u[:, ci], guide_events)
+                     p_collide[ci], u[:, ci], guide_events, collisions)
         hit = alive & ~collide & ground
         alive &= collide | hit
         if np.any(hit):
@@ -672,13 +687,75 @@ class _Paths:
     order: np.ndarray
 
 
-def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, u, guide_events=None):
+def _scattering_collision(atm, w, p, d, t_nodes, tau, absorbed, u):
+    """(t, share) (P,): a collision along p + t d drawn with the uniforms u in proportion to the scattering mass
+    beta_scat exp(-tau~) of the intervals between the nodes t_nodes (tau~ piecewise linear through tau there), and
+    its pdf over that of the plain collision mass, sigma~ exp(-tau~) / ``absorbed`` (= 1 - exp(-tau~(length))).
+
+    1. Per interval k (from t_k, optical depth dtau_k, sigma_k = dtau_k / (t_k+1 - t_k)): m_k = int beta_scat
+       exp(-sigma_k (t - t_k)) dt by 4-point Gauss-Legendre, and its mass M_k = exp(-tau_k) m_k [dimensionless];
+       0 where dtau_k = 0 (air too thin to represent, which the plain pdf leaves out too).
+    2. The interval by M_k / sum M, then t within it in proportion to exp(-sigma_k (t - t_k)), as the plain pdf:
+       pdf(t) = (M_k / sum M) sigma_k exp(-sigma_k (t - t_k)) / (1 - exp(-dtau_k)).
+    3. share = pdf(t) / (sigma_k exp(-tau~(t)) / absorbed) = m_k absorbed / (sum M (1 - exp(-dtau_k))).
+
+    Where the single-scattering albedo is the same along the segment this is the plain pdf (share 1); where an
+    absorbing layer holds most of the extinction the collisions go to the scattering air, and the weight of a
+    collision, beta_scat exp(-tau) over its pdf, stays near sum M wherever it falls."""
+    a, b = t_nodes[:, :-1], t_nodes[:, 1:]
+    dtau = np.diff(tau, axis=1)
+    sigma = np.where(b > a, dtau / np.where(b > a, b - a, 1.0), 0.0)
+    mid, rad = 0.5 * (a + b), 0.5 * (b - a)
+    m = np.empty(a.shape)
+    for rows in chunks(len(p), CHUNK_PATHS):
+        t = mid[rows, :, None] + rad[rows, :, None] * _GL4_X                                      # (P, K, 4)
+        h = _height_along(atm, p[rows], d[rows], t)
+        beta = (atm.rayleigh.profile.density(h) * atm.rayleigh.scattering_m[w]
+                + atm.mie.profile.density(h) * atm.mie.scattering_m[w])
+        decay = np.exp(-sigma[rows, :, None] * (t - a[rows, :, None]))
+        m[rows] = rad[rows] * (beta * decay * _GL4_W).sum(-1)
+    m = np.where(dtau > 0.0, m, 0.0)
+    mass = m * np.exp(-tau[:, :-1])
+    cdf = np.cumsum(mass, axis=1)
+    total = cdf[:, -1]
+    target = u * total
+    k = np.minimum(_count_at_most(cdf, target), cdf.shape[1] - 1)
+    k = _last_with_mass(mass, k)
+    rows = np.arange(len(p))
+    below = np.where(k > 0, cdf[rows, np.maximum(k - 1, 0)], 0.0)
+    frac = np.clip((target - below) / np.where(mass[rows, k] > 0.0, mass[rows, k], 1.0), 0.0, 1.0)
+    dtau_k, sigma_k, a_k = dtau[rows, k], sigma[rows, k], a[rows, k]
+    opaque = -np.expm1(-dtau_k)
+    t = a_k - np.log1p(-frac * opaque) / np.where(sigma_k > 0.0, sigma_k, 1.0)
+    t = np.minimum(t, b[rows, k])
+    share = m[rows, k] * absorbed / np.where(total * opaque > 0.0, total * opaque, 1.0)
+    return t, share
+
+
+def _last_with_mass(mass, k):
+    """k (P,), moved back to the nearest interval at or before it whose ``mass`` (P, K) is positive (the first
+    one where none is): cdf's flat steps, where the mass is 0, are never drawn."""
+    positive = mass > 0.0
+    idx = np.where(positive, np.arange(mass.shape[1]), -1)
+    last = np.maximum.accumulate(idx, axis=1)
+    first = np.argmax(positive, axis=1)
+    chosen = last[np.arange(len(k)), k]
+    return np.where(chosen >= 0, chosen, first)
+
+
+def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, u, guide_events=None,
+             collisions="extinction"):
     """A collision along the segments p + t d of the paths ``g`` (forced: probability ``p_collide``), drawn
-    from the tabulated optical depth; the weight takes beta_scat exp(-tau) over the density sampled (exact tau
-    to the point, :func:`collision_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
-    t = _invert(t_nodes, tau, -np.log1p(-u[_FLIGHT] * absorbed))
+    from the tabulated optical depth in proportion to the collision mass or to its scattering part
+    (``collisions``, :data:`COLLISIONS`); the weight takes beta_scat exp(-tau) over the density sampled (exact
+    tau to the point, :func:`collision_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
+    if collisions == "scattering":
+        t, share = _scattering_collision(atm, w, p, d, t_nodes, tau, absorbed, u[_FLIGHT])
+    else:
+        t, share = _invert(t_nodes, tau, -np.log1p(-u[_FLIGHT] * absorbed)), 1.0
     x, b_r, b_m, tau_exact, sigma, tau_t = collision_point(atm, w, p, d, t_nodes, tau, t)
-    ratio = np.where(sigma > 0.0, np.exp(tau_t - tau_exact) / np.where(sigma > 0.0, sigma, 1.0), 0.0)
+    dens = sigma * share                          # the density sampled over exp(-tau~) / absorbed
+    ratio = np.where(dens > 0.0, np.exp(tau_t - tau_exact) / np.where(dens > 0.0, dens, 1.0), 0.0)
     paths.pos[g] = x
     paths.weight[g] *= (b_r + b_m) * absorbed * ratio / p_collide
     paths.order[g] += 1

@@ -2,8 +2,9 @@
 
 A stored result holds the radiance, its standard error and the view transmittance, with the atmosphere's
 parameters (JSON, :func:`radiance_parameters`), the rays, the paths per ray, the seed, :data:`~planetviz.reference.montecarlo.SOLVER_VERSION`,
-for a result of the first orders only ``max_order``, and the solver's ``guide_events`` where it changes the
-estimator (a result of orders up to ``guide_events + 1`` draws every new direction from the guide whatever it is).
+for a result of the first orders only ``max_order``, the solver's ``guide_events`` where it changes the
+estimator (a result of orders up to ``guide_events + 1`` draws every new direction from the guide whatever it is),
+and its ``collisions`` where they are not drawn from the extinction (a file without it was solved so).
 :func:`stored_solve` returns it while all of those match the request and recomputes (and rewrites) it when any
 differs or the file cannot be read. :func:`stored_reference` names the file after a tag and the rays, for a
 folder of such results (the repository's benchmarks/data/ for its tests and benchmarks).
@@ -20,11 +21,16 @@ import numpy as np
 
 from .montecarlo import GUIDE_EVENTS, SOLVER_VERSION, ReferenceResult, solve
 
+#: How the collisions of a result stored without ``collisions`` were drawn (``montecarlo.COLLISIONS``).
+UNMARKED_COLLISIONS = "extinction"
+
 
 def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
-                 max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS) -> ReferenceResult:
+                 max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS,
+                 collisions: str = "extinction") -> ReferenceResult:
     """:func:`~planetviz.reference.solve` through the file ``path`` (.npz), recomputed when stale. ``max_order``:
-    the orders of scattering solved (all by default), ``guide_events`` the solver's, stored with the result.
+    the orders of scattering solved (all by default), ``guide_events`` and ``collisions`` the solver's, stored
+    with the result.
 
     Example
     -------
@@ -45,11 +51,13 @@ def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int =
         wanted["max_order"] = max_order
     if guide_events is not None and (max_order is None or max_order > guide_events + 1):
         wanted["guide_events"] = guide_events
+    if collisions != UNMARKED_COLLISIONS:
+        wanted["collisions"] = collisions
     stored = _load(path, wanted, (camera, view_dir, sun_dir))
     if stored is not None:
         return stored
     res = solve(atm, camera, view_dir, sun_dir, samples=samples, seed=seed, max_order=max_order,
-                guide_events=guide_events)
+                guide_events=guide_events, collisions=collisions)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp.npz")
     np.savez(tmp, radiance=res.radiance, radiance_stderr=res.stderr, transmittance=res.transmittance,
@@ -66,13 +74,14 @@ def radiance_parameters(atm) -> str:
 
 
 def stored_reference(folder, tag, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
-                     max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS) -> ReferenceResult:
+                     max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS,
+                     collisions: str = "extinction") -> ReferenceResult:
     """:func:`stored_solve` through ``folder/test-<tag>-<hash of the rays>.npz`` (the rays hashed in float32, so
     that rays computed on another machine, which may differ in the last bit of float64, name the same file)."""
     rays = np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (camera, view_dir, sun_dir)])
     name = f"test-{tag}-{hashlib.sha1(rays.astype(np.float32).tobytes()).hexdigest()[:10]}.npz"
     return stored_solve(Path(folder) / name, atm, camera, view_dir, sun_dir, samples=samples, seed=seed,
-                        max_order=max_order, guide_events=guide_events)
+                        max_order=max_order, guide_events=guide_events, collisions=collisions)
 
 
 #: Relative tolerance of the match between stored and requested rays and parameters: rays and atmospheres drawn
@@ -99,7 +108,7 @@ def _load(path, wanted, rays):
         with np.load(path) as f:
             if not _same(json.loads(str(f["parameters"])), json.loads(wanted["parameters"])):
                 return None
-            if any((key in f.files) != (key in wanted) for key in ("max_order", "guide_events")) or \
+            if any((key in f.files) != (key in wanted) for key in ("max_order", "guide_events", "collisions")) or \
                     any(str(f[key]) != str(value) for key, value in wanted.items() if key != "parameters"):
                 return None
             scale = max(float(np.max(np.abs(rays[0]))), 1.0)            # cameras in metres, directions unit
