@@ -1,6 +1,7 @@
 """Cost and precision of the reference solver at a quality level on a preset's daylight query set.
 
     python benchmarks/reference_cost.py [--preset earth] [--quality high] [--rays 100]
+                                        [--collisions extinction scattering]
 
 The first ``--rays`` daylight rays (sun 2-90 deg up) of benchmarks/tables_pareto.py's fixed query set (ground,
 aircraft, stratosphere and space cameras; random, near-sun, horizon and downward views), solved at the
@@ -10,6 +11,8 @@ those that are daylight where they look (planetviz.validation.sun_elevation_seen
 space may look at the night side while the sun is up below the camera); then, over the latter, against the
 daylight targets (0.3%, 0.5% where the orders above the first are more than half of the light: their share from
 the deterministic first order of planetviz/reference/single.py), the largest and how many values exceed them.
+``--collisions``: each way of drawing the solver's collisions to run, one after the other (``solve``'s
+``collisions``; by default the solver's).
 """
 import argparse
 import time
@@ -18,7 +21,7 @@ import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference import solve
-from planetviz.reference.montecarlo import QUALITY_SAMPLES
+from planetviz.reference.montecarlo import COLLISIONS, QUALITY_SAMPLES
 from planetviz.validation import sun_elevation_seen
 from planetviz.validation.single_scattering import reference_single_scattering
 from tables_pareto import query_set
@@ -34,16 +37,23 @@ def main():
     ap.add_argument("--preset", default="earth")
     ap.add_argument("--quality", default="high", choices=list(QUALITY_SAMPLES))
     ap.add_argument("--rays", type=int, default=100)
+    ap.add_argument("--collisions", nargs="+", default=[COLLISIONS[0]], choices=COLLISIONS)
     args = ap.parse_args()
+    for collisions in args.collisions:
+        run(args, collisions)
+
+
+def run(args, collisions):
     atm = load_atmosphere(args.preset)
     cams, views, suns, elevations = query_set(atm)
     day = np.nonzero(elevations >= 2.0)[0][:args.rays]
     paths = QUALITY_SAMPLES[args.quality]
     t0 = time.perf_counter()
-    res = solve(atm, cams[day], views[day], suns[day], samples=paths, seed=5)
+    res = solve(atm, cams[day], views[day], suns[day], samples=paths, seed=5, collisions=collisions)
     seconds = time.perf_counter() - t0
-    print(f"{args.preset}, {args.quality} ({paths} paths per ray and wavelength), {len(day)} daylight rays x "
-          f"{atm.n_wavelengths} wavelengths: {seconds:.0f} s ({seconds / len(day):.2f} s per ray)")
+    print(f"{args.preset}, {args.quality} ({paths} paths per ray and wavelength), collisions by {collisions}, "
+          f"{len(day)} daylight rays x {atm.n_wavelengths} wavelengths: {seconds:.0f} s "
+          f"({seconds / len(day):.2f} s per ray)")
     seen = np.array([sun_elevation_seen(atm, cams[i], views[i], suns[i]) for i in day])
     for label, rows in (("all", np.ones(len(day), bool)), ("daylight where they look", seen >= 2.0)):
         ok = (res.radiance > 1e-12) & rows[:, None]

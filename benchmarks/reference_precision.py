@@ -3,6 +3,7 @@
     python benchmarks/reference_precision.py [--split tuning|held-out] [--atmospheres 8] [--paths 2048]
                                              [--presets earth mars exo-co2-thick] [--seeds 1 2]
                                              [--sampler sobol|random] [--guide-events N|all]
+                                             [--collisions extinction|scattering]
 
 For each atmosphere (planetviz.validation.random_atmosphere over the split's seeds, then the presets), one
 ray per camera class and light class (planetviz.validation.rays), solved twice with independent seeds.
@@ -11,6 +12,7 @@ z-scores (difference of the two runs over their combined standard errors; 1 for 
 the largest |z|, and the cost per ray and wavelength (both runs, both cores). Values below 1e-12 / sr
 (no light reaches the ray) are left out. ``--guide-events N``: the solver's guide around the sun at the paths'
 first N events only (``solve(..., guide_events=N)``; ``all``: every event; default the solver's, GUIDE_EVENTS).
+``--collisions``: how the solver draws its collisions (``solve``'s ``collisions``; default the solver's).
 """
 import argparse
 import time
@@ -19,7 +21,7 @@ import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference import solve
-from planetviz.reference.montecarlo import GUIDE_EVENTS, SAMPLERS
+from planetviz.reference.montecarlo import COLLISIONS, GUIDE_EVENTS, SAMPLERS
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, random_atmosphere, rays
 
 
@@ -40,6 +42,7 @@ def main():
     ap.add_argument("--seeds", type=int, nargs=2, default=[1, 2])
     ap.add_argument("--sampler", default="sobol", choices=list(SAMPLERS))
     ap.add_argument("--guide-events", default=str(GUIDE_EVENTS))
+    ap.add_argument("--collisions", default=COLLISIONS[0], choices=COLLISIONS)
     ap.add_argument("--verbose", action="store_true")
     args = ap.parse_args()
     args.guide_events = None if args.guide_events == "all" else int(args.guide_events)
@@ -50,7 +53,7 @@ def main():
             cam, view, sun = (np.concatenate(x) for x in zip(*batch))
             t0 = time.perf_counter()
             a, b = (solve(atm, cam, view, sun, samples=args.paths, seed=s, sampler=args.sampler,
-                          guide_events=args.guide_events) for s in args.seeds)
+                          guide_events=args.guide_events, collisions=args.collisions) for s in args.seeds)
             rows[light]["seconds"] += time.perf_counter() - t0
             rows[light]["n"] += len(cam) * atm.n_wavelengths
             ok = (a.radiance > 1e-12) & (b.radiance > 1e-12)
@@ -65,7 +68,7 @@ def main():
                       + (f" ({CAMERAS[np.nonzero(ok)[0][worst]]})" if worst is not None else ""), flush=True)
     print(f"split {args.split}, {args.atmospheres} random atmospheres + {args.presets}, {args.paths} paths per ray "
           f"and wavelength, seeds {args.seeds}, sampler {args.sampler}, guide events "
-          f"{'all' if args.guide_events is None else args.guide_events}")
+          f"{'all' if args.guide_events is None else args.guide_events}, collisions by {args.collisions}")
     print(f"{'light':>14} {'values':>7} {'median rel. s.e.':>17} {'p90':>7} {'RMS z':>6} {'max |z|':>8} "
           f"{'s per ray-wavelength':>21}")
     for light, r in rows.items():

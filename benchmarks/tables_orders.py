@@ -4,6 +4,7 @@ presets, per light class and camera class, for the tuning and the held-out split
     python benchmarks/tables_orders.py [--split tuning held-out] [--atmospheres 8] [--paths 16384]
                                        [--presets earth mars exo-co2-thick] [--directions N_THETA N_PHI ...]
                                        [--quadrature lit-band hemispheres horizon] [--worst 10] [--rows N]
+                                       [--collisions extinction|scattering]
 
 The same atmospheres and rays as benchmarks/tables_suite.py. The tables' orders 1 and 2 (the multiple-scattering
 stage stopped after order 2, its sky irradiance then that of order 1) against the reference solver's
@@ -16,7 +17,9 @@ by default the quality level's own; ``--quadrature`` one or more of its kinds (`
 the quality level's ``lit-band``: split at each point's horizon and at the band of lit air seen from the planet's
 shadow; ``horizon``: split at the horizon, clustered toward it; ``hemispheres``: Gauss-Legendre on each side of the
 horizontal at every point), each with every ``--directions``. ``--rows N``: the multiple-scattering tables get at
-least N r rows (``precompute.sizes_for``'s other rules kept).
+least N r rows (``precompute.sizes_for``'s other rules kept). ``--collisions``: how the reference draws its
+collisions (``solve``'s ``collisions``; by default the solver's, its results in benchmarks/data/orders/; the
+others' in benchmarks/data/orders-<collisions>/).
 
 Printed per quadrature, split and light class: the number of values (ray x wavelength, the reference above 1e-12 /
 sr and its relative standard error below 20%, cameras within 100 m of the top apart), the RMS, the RMS with the
@@ -31,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
+from planetviz.reference.montecarlo import COLLISIONS
 from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
@@ -42,14 +46,15 @@ from tables_suite import cases
 DATA = Path(__file__).resolve().parent / "data" / "orders"
 
 
-def reference_orders(name, atm, seed, light, paths):
+def reference_orders(name, atm, seed, light, paths, collisions=COLLISIONS[0]):
     """(cameras, views, suns, stored reference) of the suite's rays of one light class (2 per camera class) for
-    the atmosphere ``name``: the reference's first two orders (``max_order=2``, ``paths`` per ray and wavelength),
-    stored in DATA."""
+    the atmosphere ``name``: the reference's first two orders (``max_order=2``, ``paths`` per ray and wavelength,
+    its collisions drawn as ``collisions`` says), stored in DATA (the solver's default) or DATA-<collisions>."""
     batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
     cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-    ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=paths, seed=seed + 11,
-                           max_order=2)
+    folder = DATA if collisions == COLLISIONS[0] else DATA.with_name(f"{DATA.name}-{collisions}")
+    ref = stored_reference(folder, f"{name}-{light}", atm, cams, views, suns, samples=paths, seed=seed + 11,
+                           max_order=2, collisions=collisions)
     return cams, views, suns, ref
 
 
@@ -65,7 +70,7 @@ def compare(split, args, quadratures):
         two_orders = {q: first_two_orders(tables, atm, sizes, q[1] or sizes.directions, quadrature=q[0])
                       for q in quadratures}
         for light in LIGHT:
-            cams, views, suns, ref = reference_orders(name, atm, seed, light, args.paths)
+            cams, views, suns, ref = reference_orders(name, atm, seed, light, args.paths, args.collisions)
             for q in quadratures:
                 got, _ = sky_radiance(two_orders[q], atm, cams, views, suns)
                 for k in range(len(cams)):
@@ -113,6 +118,7 @@ def main():
                     help="pairs N_THETA N_PHI of the scattering density's direction quadrature")
     ap.add_argument("--rows", type=int, default=0, metavar="N",
                     help="at least N r rows in the multiple-scattering tables")
+    ap.add_argument("--collisions", default=COLLISIONS[0], choices=COLLISIONS)
     args = ap.parse_args()
     if args.directions and len(args.directions) % 2:
         ap.error("--directions: pairs N_THETA N_PHI")

@@ -519,10 +519,10 @@ def test_collisions_drawn_by_the_scattering_mass_sum_to_its_integral_with_bounde
     atm, w, n = random_atmosphere(100009), 1, 2048
     mus = (-0.028, -0.04, -0.045)
     p, d, length = _grazing_segments(atm, 36.3, mus, n)
-    t_nodes, tau = segment_optical_depth(atm, w, p, d, length)
+    t_nodes, tau, m = montecarlo._segment_tables(atm, w, p, d, length, scattering=True)
     absorbed = -np.expm1(-tau[:, -1])
     u = np.tile((np.arange(n) + 0.5) / n, len(mus))
-    t, share = montecarlo._scattering_collision(atm, w, p, d, t_nodes, tau, absorbed, u)
+    t, share = montecarlo._scattering_collision(t_nodes, tau, m, absorbed, u)
     _, b_r, b_m, tau_exact, sigma, tau_t = montecarlo.collision_point(atm, w, p, d, t_nodes, tau, t)
     weight = ((b_r + b_m) * absorbed * np.exp(tau_t - tau_exact) / (sigma * share)).reshape(len(mus), n)
     plain = montecarlo._invert(t_nodes, tau, -np.log1p(-u * absorbed))

@@ -18,7 +18,11 @@ Method. L = L_1 + L_{>=2}:
     ends on the ground). The weight is the integrand over the density actually sampled,
     beta_scat(t) exp(-tau(t)) / (sigma~(t) exp(-tau~(t))), with tau(t) integrated exactly to the
     sampled point (Gauss-Legendre from the node before it), so the estimator is unbiased for any
-    tabulation; only the optical depth's quadrature error (< 5e-5 relative) remains.
+    tabulation; only the optical depth's quadrature error (< 5e-5 relative) remains. With
+    ``collisions="scattering"`` the collision follows the scattering part of that density instead,
+    beta_scat exp(-tau~), per interval between the nodes (:func:`_scattering_collision`), its weight divided
+    by the ratio of the two pdfs: the same pdf where the single-scattering albedo is the same along the
+    segment, the scattering air instead of an absorbing layer where one holds most of the extinction.
   - **Next-event estimation along the next segment**: at a path vertex x with new direction d, the light
     the next vertex scatters toward x straight from the sun is estimated before that vertex is sampled:
     one collision drawn only from the sun-lit part of the segment (the planet's shadow is an interval of
@@ -403,12 +407,35 @@ def _extinction_along(atm, w, p, d, t):
     return atm.extinction(_height_along(atm, p, d, t), w)[..., 0]
 
 
+def _coefficients_along(atm, w, p, d, t):
+    """(beta_ext, beta_scat) [1/m] at p + t d (t shaped (P, ...)) at the wavelength index w, each component's
+    density computed once for both."""
+    h = _height_along(atm, p, d, t)
+    ext, scat = np.zeros(h.shape), np.zeros(h.shape)
+    for scattering, extinction, profile in atm.components():
+        if extinction[w] or scattering[w]:
+            rho = profile.density(h)
+            if extinction[w]:
+                ext += extinction[w] * rho
+            if scattering[w]:
+                scat += scattering[w] * rho
+    return ext, scat
+
+
 def segment_optical_depth(atm, w, p, d, length):
     """(node distances (P, K+1), cumulative tau at the nodes (P, K+1)) along p + t d, t in [0, length].
 
     Nodes are uniform in s = sign(t - t_c) sqrt|t - t_c| (t_c: the point of closest approach, where
     grazing rays meet the densest air; 0 for rays going up); each interval by 4-point Gauss-Legendre.
     """
+    t, tau, _ = _segment_tables(atm, w, p, d, length, scattering=False)
+    return t, tau
+
+
+def _segment_tables(atm, w, p, d, length, scattering):
+    """:func:`segment_optical_depth`'s (node distances, cumulative tau) and, where ``scattering``, the scattering
+    mass of each interval without its exp(-tau_k) (P, K) (:func:`_scattering_collision`'s m_k, 4-point
+    Gauss-Legendre on the same nodes as tau), else None."""
     tc = np.clip(-np.einsum("ij,ij->i", p, d), 0.0, length)[:, None]
     s = np.linspace(0.0, 1.0, _SEGMENT_INTERVALS + 1)
     s = -np.sqrt(tc) + (np.sqrt(tc) + np.sqrt(length[:, None] - tc)) * s
@@ -417,11 +444,20 @@ def segment_optical_depth(atm, w, p, d, length):
     a, b = t[:, :-1], t[:, 1:]
     mid, rad = 0.5 * (a + b), 0.5 * (b - a)
     dtau = np.empty(mid.shape)
+    m = np.empty(mid.shape) if scattering else None
     for rows in chunks(len(p), CHUNK_PATHS):
-        sig = _extinction_along(atm, w, p[rows], d[rows], mid[rows, :, None] + rad[rows, :, None] * _GL4_X)
+        nodes = mid[rows, :, None] + rad[rows, :, None] * _GL4_X
+        if not scattering:
+            sig = _extinction_along(atm, w, p[rows], d[rows], nodes)
+            dtau[rows] = rad[rows] * (sig * _GL4_W).sum(-1)
+            continue
+        sig, beta = _coefficients_along(atm, w, p[rows], d[rows], nodes)
         dtau[rows] = rad[rows] * (sig * _GL4_W).sum(-1)
+        sigma = np.where(rad[rows] > 0.0, dtau[rows] / np.where(rad[rows] > 0.0, 2.0 * rad[rows], 1.0), 0.0)
+        decay = np.exp(-sigma[..., None] * rad[rows, :, None] * (1.0 + _GL4_X))
+        m[rows] = np.where(dtau[rows] > 0.0, rad[rows] * (beta * decay * _GL4_W).sum(-1), 0.0)
     tau = np.concatenate([np.zeros((len(p), 1)), np.cumsum(dtau, axis=1)], axis=1)
-    return t, tau
+    return t, tau, m
 
 
 def _tau_between(atm, w, p, d, a, b):
@@ -648,7 +684,7 @@ def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=
         t_top = distance_to_top_exit(p, dd, atm.top_radius_m)
         ground = np.isfinite(t_ground) & (t_ground <= t_top)
         length = np.where(ground, t_ground, t_top)
-        t_nodes, tau = segment_optical_depth(atm, w, p, dd, length)
+        t_nodes, tau, m = _segment_tables(atm, w, p, dd, length, scattering=collisions == "scattering")
 
         nee = (paths.order[idx] + 1 >= first) & (paths.order[idx] + 1 <= limit)
         if np.any(nee):
@@ -662,7 +698,7 @@ def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=
         if np.any(collide):
             ci = np.nonzero(collide)[0]
             _collide(atm, w, paths, idx[ci], p[ci], dd[ci], sun, t_nodes[ci], tau[ci], absorbed[ci],
-                     p_collide[ci], u[:, ci], guide_events, collisions)
+                     p_collide[ci], u[:, ci], guide_events, None if m is None else m[ci])
         hit = alive & ~collide & ground
         alive &= collide | hit
         if np.any(hit):
@@ -687,14 +723,15 @@ class _Paths:
     order: np.ndarray
 
 
-def _scattering_collision(atm, w, p, d, t_nodes, tau, absorbed, u):
+def _scattering_collision(t_nodes, tau, m, absorbed, u):
     """(t, share) (P,): a collision along p + t d drawn with the uniforms u in proportion to the scattering mass
     beta_scat exp(-tau~) of the intervals between the nodes t_nodes (tau~ piecewise linear through tau there), and
     its pdf over that of the plain collision mass, sigma~ exp(-tau~) / ``absorbed`` (= 1 - exp(-tau~(length))).
 
     1. Per interval k (from t_k, optical depth dtau_k, sigma_k = dtau_k / (t_k+1 - t_k)): m_k = int beta_scat
-       exp(-sigma_k (t - t_k)) dt by 4-point Gauss-Legendre, and its mass M_k = exp(-tau_k) m_k [dimensionless];
-       0 where dtau_k = 0 (air too thin to represent, which the plain pdf leaves out too).
+       exp(-sigma_k (t - t_k)) dt by 4-point Gauss-Legendre (``m``, from :func:`_segment_tables`), and its mass
+       M_k = exp(-tau_k) m_k [dimensionless]; 0 where dtau_k = 0 (air too thin to represent, which the plain pdf
+       leaves out too).
     2. The interval by M_k / sum M, then t within it in proportion to exp(-sigma_k (t - t_k)), as the plain pdf:
        pdf(t) = (M_k / sum M) sigma_k exp(-sigma_k (t - t_k)) / (1 - exp(-dtau_k)).
     3. share = pdf(t) / (sigma_k exp(-tau~(t)) / absorbed) = m_k absorbed / (sum M (1 - exp(-dtau_k))).
@@ -705,23 +742,13 @@ def _scattering_collision(atm, w, p, d, t_nodes, tau, absorbed, u):
     a, b = t_nodes[:, :-1], t_nodes[:, 1:]
     dtau = np.diff(tau, axis=1)
     sigma = np.where(b > a, dtau / np.where(b > a, b - a, 1.0), 0.0)
-    mid, rad = 0.5 * (a + b), 0.5 * (b - a)
-    m = np.empty(a.shape)
-    for rows in chunks(len(p), CHUNK_PATHS):
-        t = mid[rows, :, None] + rad[rows, :, None] * _GL4_X                                      # (P, K, 4)
-        h = _height_along(atm, p[rows], d[rows], t)
-        beta = (atm.rayleigh.profile.density(h) * atm.rayleigh.scattering_m[w]
-                + atm.mie.profile.density(h) * atm.mie.scattering_m[w])
-        decay = np.exp(-sigma[rows, :, None] * (t - a[rows, :, None]))
-        m[rows] = rad[rows] * (beta * decay * _GL4_W).sum(-1)
-    m = np.where(dtau > 0.0, m, 0.0)
     mass = m * np.exp(-tau[:, :-1])
     cdf = np.cumsum(mass, axis=1)
     total = cdf[:, -1]
     target = u * total
     k = np.minimum(_count_at_most(cdf, target), cdf.shape[1] - 1)
     k = _last_with_mass(mass, k)
-    rows = np.arange(len(p))
+    rows = np.arange(len(t_nodes))
     below = np.where(k > 0, cdf[rows, np.maximum(k - 1, 0)], 0.0)
     frac = np.clip((target - below) / np.where(mass[rows, k] > 0.0, mass[rows, k], 1.0), 0.0, 1.0)
     dtau_k, sigma_k, a_k = dtau[rows, k], sigma[rows, k], a[rows, k]
@@ -744,13 +771,14 @@ def _last_with_mass(mass, k):
 
 
 def _collide(atm, w, paths, g, p, d, sun, t_nodes, tau, absorbed, p_collide, u, guide_events=None,
-             collisions="extinction"):
+             scattering_mass=None):
     """A collision along the segments p + t d of the paths ``g`` (forced: probability ``p_collide``), drawn
-    from the tabulated optical depth in proportion to the collision mass or to its scattering part
-    (``collisions``, :data:`COLLISIONS`); the weight takes beta_scat exp(-tau) over the density sampled (exact
-    tau to the point, :func:`collision_point`) and the new direction's phase / pdf (:func:`_new_direction`)."""
-    if collisions == "scattering":
-        t, share = _scattering_collision(atm, w, p, d, t_nodes, tau, absorbed, u[_FLIGHT])
+    from the tabulated optical depth in proportion to the collision mass or, given the intervals'
+    ``scattering_mass`` (:func:`_segment_tables`), to its scattering part (:data:`COLLISIONS`); the weight takes
+    beta_scat exp(-tau) over the density sampled (exact tau to the point, :func:`collision_point`) and the new
+    direction's phase / pdf (:func:`_new_direction`)."""
+    if scattering_mass is not None:
+        t, share = _scattering_collision(t_nodes, tau, scattering_mass, absorbed, u[_FLIGHT])
     else:
         t, share = _invert(t_nodes, tau, -np.log1p(-u[_FLIGHT] * absorbed)), 1.0
     x, b_r, b_m, tau_exact, sigma, tau_t = collision_point(atm, w, p, d, t_nodes, tau, t)
