@@ -6,6 +6,7 @@ tuning and the held-out split.
                                       [--conditions] [--multiple N_NU N_MU_S N_MU N_R]
                                       [--scattering N_NU N_MU_S N_MU N_R]
                                       [--quadrature hemispheres|horizon|lit-band]
+                                      [--collisions extinction|scattering]
 
 Atmospheres: planetviz.validation.random_atmosphere over the first ``--atmospheres`` seeds of each split (the
 held-out split's seeds are never read while tuning), and the presets with the tuning split. Rays:
@@ -13,7 +14,8 @@ planetviz.validation.rays, ``--rays`` per camera class (ground, aircraft, strato
 the disc and the limb from space) and light class (the sun's elevation where the ray looks: day >= 2 deg,
 twilight 0 to -6 deg, deep twilight -6 to -18 deg). The reference (``--paths`` per ray and wavelength) is stored
 in benchmarks/data/suite/ and recomputed only when the atmosphere, the rays or the solver change; the tables come
-from the table cache.
+from the table cache. ``--collisions``: how the reference draws its collisions (``solve``'s ``collisions``; by
+default the solver's; the others' results in benchmarks/data/suite-<collisions>/).
 
 Printed per split, light class and camera class: the number of values (ray x wavelength, where the reference is
 above 1e-12 / sr), the RMS and the 95th percentile of the tables' relative error, and the RMS of the reference's
@@ -36,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from planetviz import load_atmosphere
+from planetviz.reference.montecarlo import COLLISIONS
 from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
@@ -69,12 +72,14 @@ def compare(split, args):
         sizes = replace(sizes, quadrature=args.quadrature)
     if args.transmittance:
         sizes = replace(sizes, transmittance=tuple(args.transmittance))
+    folder = DATA if args.collisions == COLLISIONS[0] else DATA.with_name(f"{DATA.name}-{args.collisions}")
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
         tables = precompute(atm, sizes, cache=cache)
         for light in LIGHT:
             batch = [rays(atm, seed, camera, light, n=args.rays) for camera in CAMERAS]
             cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-            ref = stored_reference(DATA, f"{name}-{light}", atm, cams, views, suns, samples=args.paths, seed=seed + 7)
+            ref = stored_reference(folder, f"{name}-{light}", atm, cams, views, suns, samples=args.paths,
+                                   seed=seed + 7, collisions=args.collisions)
             total, noise = ref.radiance, ref.stderr
             if args.single:
                 want_all = reference_single_scattering(atm, cams, views, suns)
@@ -136,6 +141,7 @@ def main():
     ap.add_argument("--paths", type=int, default=4096)
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--worst", type=int, default=10)
+    ap.add_argument("--collisions", default=COLLISIONS[0], choices=COLLISIONS)
     ap.add_argument("--single", action="store_true", help="the first order against the reference quadrature")
     ap.add_argument("--conditions", action="store_true",
                     help="also the daylight errors grouped by planetviz.tables.validated's conditions")
