@@ -65,11 +65,12 @@ def test_plane_parallel_limit_agrees_with_disort(aerosol):
         assert np.all(err < 0.01 * want)        # and the check resolves 1% differences
 
 
-def test_error_bars_are_honest_on_random_atmospheres():
-    # Honest error bars at the draft level: on random legal atmospheres (planetviz.validation, seeds of their
-    # own) and every camera and light class (ground to space, daylight, twilight to 6 deg and deep twilight
-    # to 18 deg below the horizon where the ray looks, the night side and the terminator from space), a draft
-    # run against an independent run of 2x the paths. z = difference / combined standard errors: for honest
+@pytest.mark.parametrize("collisions", ["extinction", "scattering"])
+def test_error_bars_are_honest_on_random_atmospheres(collisions):
+    # Honest error bars at the draft level, with either way of drawing the collisions: on random legal
+    # atmospheres (planetviz.validation, seeds of their own) and every camera and light class (ground to space,
+    # daylight, twilight to 6 deg and deep twilight to 18 deg below the horizon where the ray looks, the night
+    # side and the terminator from space), a draft run against an independent run of 2x the paths. z = difference / combined standard errors: for honest
     # error bars its RMS over ~450 values is 1 +- 0.035 (sampling; each standard error comes from 32 replicas,
     # so z is about Student's t with 60 degrees of freedom, RMS 1.02), so 0.8-1.2 leaves room for
     # non-Gaussian tails, and |z| > 5 happens by chance about once in 2e5 values. A heavy tail that the
@@ -81,8 +82,8 @@ def test_error_bars_are_honest_on_random_atmospheres():
         atm = random_atmosphere(seed)
         batch = [rays(atm, seed, c, light) for c in CAMERAS for light in LIGHT]
         cam, view, sun = (np.concatenate(x) for x in zip(*batch))
-        a = solve(atm, cam, view, sun, samples=QUALITY_SAMPLES["draft"], seed=1)
-        b = solve(atm, cam, view, sun, samples=2 * QUALITY_SAMPLES["draft"], seed=2)
+        a = solve(atm, cam, view, sun, samples=QUALITY_SAMPLES["draft"], seed=1, collisions=collisions)
+        b = solve(atm, cam, view, sun, samples=2 * QUALITY_SAMPLES["draft"], seed=2, collisions=collisions)
         ok = (a.radiance > 1e-12) & (b.radiance > 1e-12)
         diff, se = (a.radiance - b.radiance)[ok], np.hypot(a.stderr, b.stderr)[ok]
         # Where no path of either run adds light the value is the quadrature's alone and both agree exactly;
