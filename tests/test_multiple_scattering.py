@@ -483,6 +483,29 @@ def test_first_two_orders_from_the_ground_along_the_horizon_of_large_planets(see
     assert np.allclose(got[0], ref.radiance[ray], rtol=0.03), got[0] / ref.radiance[ray] - 1.0
 
 
+@pytest.mark.slow
+def test_first_two_orders_along_the_top_of_an_absorbing_layer_match_a_brute_force():
+    # The held-out split's random atmosphere 100009 (978 km of air on a planet of 9e8 m, an absorbing layer 306-716
+    # km up): its first two orders' suite ray from 36 m under the top, 1.61 deg down, runs some 50,000 km along the
+    # top of the layer. Orders 1 + 2 by brute force (benchmarks/order2_brute_force.py --atmosphere random-100009
+    # --light day --camera top --ray 0: order 1 by deterministic quadrature, order 2 over 60 x 72 directions at 12
+    # points along the ray; the grid 2/3 as fine within 0.15%) are the numbers below [1/sr]; the Monte Carlo
+    # reference drawn by the collision probability reads them 0.5-7% low with error bars of 0.01-0.2% (its tail
+    # along the layer, docs/benchmarks.md), so the tables are checked against the brute force. Bound 1%, the
+    # issue's daylight target, well above the brute force's own 0.15%; the tables read within 0.3%.
+    from planetviz.tables.multiple import first_two_orders
+    from planetviz.tables.precompute import sizes_for
+    from planetviz.validation import CAMERAS, rays
+    from planetviz.validation.random_suite import random_atmosphere
+    atm = random_atmosphere(100009)
+    sizes = sizes_for(atm, QUALITY["standard"])
+    two = first_two_orders(precompute(atm, QUALITY["standard"], multiple=False), atm, sizes)
+    cams, views, suns = rays(atm, 100009, CAMERAS[3], "day", n=2)
+    brute = np.array([1.744e-07, 8.507e-07, 1.339e-06])
+    got, _ = sky_radiance(two, atm, cams[:1], views[:1], suns[:1])
+    assert np.allclose(got[0], brute, rtol=0.01), got[0] / brute - 1.0
+
+
 def test_the_nodes_along_rays_through_optically_thick_air_hold_every_wavelengths_light():
     # In optically thick air the stage integrates the scattering density along S's rays weighted by beta T: each
     # wavelength's light comes from its own first attenuation lengths, a few hundred metres at 440 nm and tens of
