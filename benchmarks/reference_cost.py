@@ -21,7 +21,7 @@ import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference import solve
-from planetviz.reference.montecarlo import COLLISIONS, QUALITY_SAMPLES
+from planetviz.reference.montecarlo import COLLISIONS, DEFAULT_COLLISIONS, QUALITY_SAMPLES
 from planetviz.validation import sun_elevation_seen
 from planetviz.validation.single_scattering import reference_single_scattering
 from tables_pareto import query_set
@@ -37,7 +37,7 @@ def main():
     ap.add_argument("--preset", default="earth")
     ap.add_argument("--quality", default="high", choices=list(QUALITY_SAMPLES))
     ap.add_argument("--rays", type=int, default=100)
-    ap.add_argument("--collisions", nargs="+", default=[COLLISIONS[0]], choices=COLLISIONS)
+    ap.add_argument("--collisions", nargs="+", default=[DEFAULT_COLLISIONS], choices=COLLISIONS)
     args = ap.parse_args()
     for collisions in args.collisions:
         run(args, collisions)

@@ -21,7 +21,7 @@ import numpy as np
 
 from planetviz import load_atmosphere
 from planetviz.reference import solve
-from planetviz.reference.montecarlo import COLLISIONS, GUIDE_EVENTS, SAMPLERS
+from planetviz.reference.montecarlo import COLLISIONS, DEFAULT_COLLISIONS, GUIDE_EVENTS, SAMPLERS
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, random_atmosphere, rays
 
 
@@ -42,7 +42,7 @@ def main():
     ap.add_argument("--seeds", type=int, nargs=2, default=[1, 2])
     ap.add_argument("--sampler", default="sobol", choices=list(SAMPLERS))
     ap.add_argument("--guide-events", default=str(GUIDE_EVENTS))
-    ap.add_argument("--collisions", default=COLLISIONS[0], choices=COLLISIONS)
+    ap.add_argument("--collisions", default=DEFAULT_COLLISIONS, choices=COLLISIONS)
     ap.add_argument("--verbose", action="store_true")
     args = ap.parse_args()
     args.guide_events = None if args.guide_events == "all" else int(args.guide_events)

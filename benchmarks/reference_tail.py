@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from planetviz.reference import solve
-from planetviz.reference.montecarlo import COLLISIONS, GUIDE_EVENTS, path_contributions
+from planetviz.reference.montecarlo import COLLISIONS, DEFAULT_COLLISIONS, GUIDE_EVENTS, path_contributions
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.validation import CAMERAS, LIGHT, random_atmosphere, rays
@@ -37,7 +37,7 @@ def main():
     ap.add_argument("--paths", type=int, nargs="+", default=[4096, 65536])
     ap.add_argument("--wavelength", type=int, default=2)
     ap.add_argument("--guide-events", nargs="+", default=[str(GUIDE_EVENTS)])
-    ap.add_argument("--collisions", nargs="+", default=[COLLISIONS[0]], choices=COLLISIONS)
+    ap.add_argument("--collisions", nargs="+", default=[DEFAULT_COLLISIONS], choices=COLLISIONS)
     ap.add_argument("--tail", nargs=3, metavar=("CAMERA", "RAY", "PATHS"))
     args = ap.parse_args()
     atm = random_atmosphere(args.seed)

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from planetviz.reference.montecarlo import COLLISIONS
+from planetviz.reference.montecarlo import COLLISIONS, DEFAULT_COLLISIONS
 from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
@@ -46,13 +46,13 @@ from tables_suite import cases
 DATA = Path(__file__).resolve().parent / "data" / "orders"
 
 
-def reference_orders(name, atm, seed, light, paths, collisions=COLLISIONS[0]):
+def reference_orders(name, atm, seed, light, paths, collisions=DEFAULT_COLLISIONS):
     """(cameras, views, suns, stored reference) of the suite's rays of one light class (2 per camera class) for
     the atmosphere ``name``: the reference's first two orders (``max_order=2``, ``paths`` per ray and wavelength,
     its collisions drawn as ``collisions`` says), stored in DATA (the solver's default) or DATA-<collisions>."""
     batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
     cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-    folder = DATA if collisions == COLLISIONS[0] else DATA.with_name(f"{DATA.name}-{collisions}")
+    folder = DATA if collisions == DEFAULT_COLLISIONS else DATA.with_name(f"{DATA.name}-{collisions}")
     ref = stored_reference(folder, f"{name}-{light}", atm, cams, views, suns, samples=paths, seed=seed + 11,
                            max_order=2, collisions=collisions)
     return cams, views, suns, ref
@@ -118,7 +118,7 @@ def main():
                     help="pairs N_THETA N_PHI of the scattering density's direction quadrature")
     ap.add_argument("--rows", type=int, default=0, metavar="N",
                     help="at least N r rows in the multiple-scattering tables")
-    ap.add_argument("--collisions", default=COLLISIONS[0], choices=COLLISIONS)
+    ap.add_argument("--collisions", default=DEFAULT_COLLISIONS, choices=COLLISIONS)
     args = ap.parse_args()
     if args.directions and len(args.directions) % 2:
         ap.error("--directions: pairs N_THETA N_PHI")

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from planetviz import load_atmosphere
-from planetviz.reference.montecarlo import COLLISIONS
+from planetviz.reference.montecarlo import COLLISIONS, DEFAULT_COLLISIONS
 from planetviz.reference.stored import stored_reference
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
@@ -72,7 +72,7 @@ def compare(split, args):
         sizes = replace(sizes, quadrature=args.quadrature)
     if args.transmittance:
         sizes = replace(sizes, transmittance=tuple(args.transmittance))
-    folder = DATA if args.collisions == COLLISIONS[0] else DATA.with_name(f"{DATA.name}-{args.collisions}")
+    folder = DATA if args.collisions == DEFAULT_COLLISIONS else DATA.with_name(f"{DATA.name}-{args.collisions}")
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
         tables = precompute(atm, sizes, cache=cache)
         for light in LIGHT:
@@ -141,7 +141,7 @@ def main():
     ap.add_argument("--paths", type=int, default=4096)
     ap.add_argument("--presets", nargs="*", default=["earth", "mars", "exo-co2-thick"])
     ap.add_argument("--worst", type=int, default=10)
-    ap.add_argument("--collisions", default=COLLISIONS[0], choices=COLLISIONS)
+    ap.add_argument("--collisions", default=DEFAULT_COLLISIONS, choices=COLLISIONS)
     ap.add_argument("--single", action="store_true", help="the first order against the reference quadrature")
     ap.add_argument("--conditions", action="store_true",
                     help="also the daylight errors grouped by planetviz.tables.validated's conditions")

@@ -489,10 +489,11 @@ def test_first_two_orders_along_the_top_of_an_absorbing_layer_match_a_brute_forc
     # km up): its first two orders' suite ray from 36 m under the top, 1.61 deg down, runs some 50,000 km along the
     # top of the layer. Orders 1 + 2 by brute force (benchmarks/order2_brute_force.py --atmosphere random-100009
     # --light day --camera top --ray 0: order 1 by deterministic quadrature, order 2 over 60 x 72 directions at 12
-    # points along the ray; the grid 2/3 as fine within 0.15%) are the numbers below [1/sr]; the Monte Carlo
-    # reference drawn by the collision probability reads them 0.5-7% low with error bars of 0.01-0.2% (its tail
-    # along the layer, docs/benchmarks.md), so the tables are checked against the brute force. Bound 1%, the
-    # issue's daylight target, well above the brute force's own 0.15%; the tables read within 0.3%.
+    # points along the ray; the grid 2/3 as fine within 0.15%) are the numbers below [1/sr]. The Monte Carlo
+    # reference with its collisions drawn by the collision probability (``collisions="extinction"``) reads them
+    # 0.5-7% low with error bars of 0.01-0.2% (its tail along the layer, docs/benchmarks.md), so the tables are
+    # checked against the brute force, independent of either way. Bound 1%, the issue's daylight target, well
+    # above the brute force's own 0.15%; the tables read within 0.3%.
     from planetviz.tables.multiple import first_two_orders
     from planetviz.tables.precompute import sizes_for
     from planetviz.validation import CAMERAS, rays

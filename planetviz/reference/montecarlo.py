@@ -100,11 +100,13 @@ DEFENSIVE = 0.1
 #: The factor within which T_sun may vary along a segment for :func:`_strata` to take it as constant.
 SUN_FLAT = 2.0
 #: How a path's collision along a segment is drawn (:func:`_collide`; :func:`solve`'s ``collisions``):
-#: "extinction", in proportion to the collision mass beta_ext exp(-tau) (the piecewise-linear tau~ through the
-#: segment's nodes); "scattering", in proportion to the scattering part of it, beta_scat exp(-tau), tabulated per
-#: interval between the nodes (:func:`_scattering_collision`), so that where an absorbing layer holds most of a
-#: long ray's extinction the scattering air is not left to rare draws of large weight.
-COLLISIONS = ("extinction", "scattering")
+#: "scattering", in proportion to the scattering part of the collision mass, beta_scat exp(-tau), tabulated per
+#: interval between the segment's nodes (:func:`_scattering_collision`), so that where an absorbing layer holds
+#: most of a long ray's extinction the scattering air is not left to rare draws of large weight; "extinction", in
+#: proportion to the whole collision mass beta_ext exp(-tau) (the piecewise-linear tau~ through the nodes).
+COLLISIONS = ("scattering", "extinction")
+#: How :func:`solve` draws collisions unless told.
+DEFAULT_COLLISIONS = COLLISIONS[0]
 #: Paths whose work along their segments' nodes is done together (``optical_depth.chunks``).
 CHUNK_PATHS = 4096
 
@@ -122,7 +124,7 @@ class ReferenceResult:
 def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, max_order: int | None = None,
           single: str = "quadrature", workers: int | None = None, batch_paths: int = 65536,
           sampler: str = "sobol", guide_events: int | None = GUIDE_EVENTS,
-          collisions: str = "extinction") -> ReferenceResult:
+          collisions: str = DEFAULT_COLLISIONS) -> ReferenceResult:
     """Reference radiance for N rays (camera (N, 3) [m], view_dir (N, 3), sun_dir (N, 3) or (3,)).
 
     ``samples`` paths per ray and wavelength; ``seed`` fixes the result whatever ``workers`` is (default:
@@ -197,7 +199,7 @@ def solve(atm, camera, view_dir, sun_dir, samples: int = 1024, seed: int = 0, ma
 
 
 def path_contributions(atm, w, camera, view_dir, sun_dir, samples: int, seed: int = 0,
-                       guide_events: int | None = GUIDE_EVENTS, collisions: str = "extinction") -> np.ndarray:
+                       guide_events: int | None = GUIDE_EVENTS, collisions: str = DEFAULT_COLLISIONS) -> np.ndarray:
     """The orders >= 2 of ``samples`` independent paths (``sampler="random"``) of one ray (camera (3,) [m],
     view_dir, sun_dir) at wavelength index w, each path's own contribution [1/sr] (samples,): their mean is
     :func:`solve`'s estimate of those orders; how few of them carry the sum shows a heavy tail that a standard
@@ -657,7 +659,7 @@ def _next_event(atm, w, p, d, sun, length, ground, t_nodes, tau, u):
     return out
 
 
-def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=None, collisions="extinction"):
+def _trace(atm, w, origin, direction, sun, uniforms, first, limit, guide_events=None, collisions=DEFAULT_COLLISIONS):
     """Contribution of orders ``first`` to ``limit`` of one backward path per row, at wavelength index w; the
     guide around the sun at the first ``guide_events`` events of each path (None: every event; :func:`solve`),
     the collisions drawn as ``collisions`` says (:data:`COLLISIONS`).

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .montecarlo import GUIDE_EVENTS, SOLVER_VERSION, ReferenceResult, solve
+from .montecarlo import DEFAULT_COLLISIONS, GUIDE_EVENTS, SOLVER_VERSION, ReferenceResult, solve
 
 #: How the collisions of a result stored without ``collisions`` were drawn (``montecarlo.COLLISIONS``).
 UNMARKED_COLLISIONS = "extinction"
@@ -27,7 +27,7 @@ UNMARKED_COLLISIONS = "extinction"
 
 def stored_solve(path, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
                  max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS,
-                 collisions: str = "extinction") -> ReferenceResult:
+                 collisions: str = DEFAULT_COLLISIONS) -> ReferenceResult:
     """:func:`~planetviz.reference.solve` through the file ``path`` (.npz), recomputed when stale. ``max_order``:
     the orders of scattering solved (all by default), ``guide_events`` and ``collisions`` the solver's, stored
     with the result.
@@ -75,7 +75,7 @@ def radiance_parameters(atm) -> str:
 
 def stored_reference(folder, tag, atm, camera, view_dir, sun_dir, samples: int, seed: int = 0,
                      max_order: int | None = None, guide_events: int | None = GUIDE_EVENTS,
-                     collisions: str = "extinction") -> ReferenceResult:
+                     collisions: str = DEFAULT_COLLISIONS) -> ReferenceResult:
     """:func:`stored_solve` through ``folder/test-<tag>-<hash of the rays>.npz`` (the rays hashed in float32, so
     that rays computed on another machine, which may differ in the last bit of float64, name the same file)."""
     rays = np.concatenate([np.atleast_2d(np.asarray(a, dtype=float)) for a in (camera, view_dir, sun_dir)])
