@@ -1,7 +1,7 @@
 """Precompute time against radiance error of the tables, per atmosphere: quality levels and a sweep.
 
     python benchmarks/tables_pareto.py [--presets earth mars exo-co2-thick] [--sweep] [--paths 32768]
-                                       [--twilight-paths 32768]
+                                       [--twilight-paths 32768] [--collisions scattering]
                                        [--plot docs/img/tables-pareto.png]
 
 Query set (fixed, 200 rays per atmosphere): cameras at 2 m (ground), 10 km (aircraft), 30 km
@@ -9,9 +9,9 @@ Query set (fixed, 200 rays per atmosphere): cameras at 2 m (ground), 10 km (airc
 zenith <= 88 deg) and 0, -2, -4, -6 deg (twilight); per camera and sun, four views: one random, one 3 deg
 from the sun, one grazing the horizon (the limb from space) and one toward the ground (the planet from
 space). The reference is the solver with ``--paths`` paths per ray and wavelength (``--twilight-paths`` for
-the 40% of rays in twilight; default: the reference's high quality for both), stored in
-benchmarks/data/reference-<preset>[-twilight]-<paths>.npz with the atmosphere's parameters, the rays, the
-seed, the solver's version and the standard errors (planetviz.reference.stored: recomputed when absent, or
+the 40% of rays in twilight; default: the reference's high quality for both; ``--collisions``: how it draws its
+collisions), stored in benchmarks/data/reference-<preset>[-twilight]-<paths>[-<collisions> where not the
+default].npz with the atmosphere's parameters, the rays, the seed, the solver's version and the standard errors (planetviz.reference.stored: recomputed when absent, or
 computed for other parameters or by another version of the solver).
 
 Errors are relative, over radiances above 1e-5 / sr. The reference has its own noise, so the
@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from planetviz import load_atmosphere
-from planetviz.reference.montecarlo import QUALITY_SAMPLES
+from planetviz.reference.montecarlo import COLLISIONS, DEFAULT_COLLISIONS, QUALITY_SAMPLES
 from planetviz.reference.stored import stored_solve
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.precompute import QUALITY, precompute
@@ -70,17 +70,19 @@ def query_set(atm, seed=1):
     return np.array(cams), np.array(views), np.array(suns), np.array(els)
 
 
-def reference(name, atm, queries, paths, twilight_paths):
+def reference(name, atm, queries, paths, twilight_paths, collisions=DEFAULT_COLLISIONS):
     """Reference radiance and standard error: ``paths`` per ray, ``twilight_paths`` for the twilight rays
-    (sun below 2 deg), whose Monte Carlo noise is otherwise several times the daylight one; stored under
-    benchmarks/data/ (planetviz.reference.stored)."""
+    (sun below 2 deg), whose Monte Carlo noise is otherwise several times the daylight one, the collisions drawn
+    as ``collisions`` says; stored under benchmarks/data/ (planetviz.reference.stored), the way of drawing the
+    collisions in the name where it is not the default."""
+    way = "" if collisions == DEFAULT_COLLISIONS else f"-{collisions}"
     out = []
     sets = [("", slice(None), paths)] + ([("-twilight", queries[3] < 2, twilight_paths)] if twilight_paths != paths
                                          else [])
     for label, sel, n in sets:
         t0 = time.perf_counter()
-        res = stored_solve(DATA / f"reference-{name}{label}-{n}.npz", atm, *(q[sel] for q in queries[:3]),
-                           samples=n, seed=3)
+        res = stored_solve(DATA / f"reference-{name}{label}-{n}{way}.npz", atm, *(q[sel] for q in queries[:3]),
+                           samples=n, seed=3, collisions=collisions)
         print(f"(reference for {name}{label}: {len(res.radiance)} rays x {n} paths, {time.perf_counter() - t0:.0f} s "
               "to compute or load)", flush=True)
         out.append((sel, res.radiance, res.stderr))
@@ -148,6 +150,8 @@ def main():
     ap.add_argument("--sweep", action="store_true", help="also the sweep of sizes, samples and orders")
     ap.add_argument("--paths", type=int, default=QUALITY_SAMPLES["high"])
     ap.add_argument("--twilight-paths", type=int, default=QUALITY_SAMPLES["high"])
+    ap.add_argument("--collisions", default=DEFAULT_COLLISIONS, choices=COLLISIONS,
+                    help="how the reference draws its collisions (planetviz.reference.montecarlo.COLLISIONS)")
     ap.add_argument("--plot", default=None, help="PNG of time against daylight error, Pareto front marked")
     ap.add_argument("--max-stderr", type=float, default=None,
                     help="only rays the reference resolves to this relative standard error (e.g. 0.02)")
@@ -159,7 +163,7 @@ def main():
     for name in args.presets:
         atm = load_atmosphere(name)
         queries = query_set(atm)
-        ref, stderr = reference(name, atm, queries, args.paths, args.twilight_paths)
+        ref, stderr = reference(name, atm, queries, args.paths, args.twilight_paths, args.collisions)
         el = queries[3][:, None]
         ok = ref > 1e-5
         if args.max_stderr is not None:
