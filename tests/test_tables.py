@@ -461,7 +461,7 @@ def test_the_sky_above_an_absorbing_layer_reads_as_tables_with_four_times_the_ro
 def test_standard_tables_against_the_reference(preset):
     # Full radiance (all orders, ground, aerial perspective) against the reference solver for 12 rays in
     # daylight, at its high quality (stored under benchmarks/data/; RMS relative standard error 0.09% Earth,
-    # 0.42% Mars, 0.48% the thick planet). What this checks is that every order is there: the same tables
+    # 0.41% Mars, 0.48% the thick planet). What this checks is that every order is there: the same tables
     # without multiple scattering (precompute(..., multiple=False)) miss 34% RMS here (Earth), 51% (Mars), 76%
     # (the thick planet). Bound: 5% RMS, a seventh of the smallest of those misses and 5x the reference's noise.
     # The tables' accuracy itself is measured, not bounded, by benchmarks/tables_vs_reference.py and benchmarks/tables_pareto.py (docs/benchmarks.md).
