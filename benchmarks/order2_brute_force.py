@@ -3,6 +3,7 @@ reference of benchmarks/tables_orders.py and the tables' first two orders with e
 
     python benchmarks/order2_brute_force.py [--atmosphere random-0] [--light twilight] [--camera aircraft]
                                             [--ray 0] [--grid 60 72 12] [--directions 10 10 20 10 40 10]
+                                            [--collisions extinction]
     python benchmarks/order2_brute_force.py --sample N [--seed 1] [--grid ...]
     python benchmarks/order2_brute_force.py --limb [--grid 60 72 24]
 
@@ -19,7 +20,7 @@ half the azimuths and two thirds of the points is printed beside it: their diffe
 error. About 30 s per point of the view ray at the default grid, on one core.
 
 The Monte Carlo reference is the stored one of ``tables_orders.py`` (``max_order=2``, 16384 paths, its standard
-error beside it); the tables' first two orders are ``multiple.first_two_orders`` with each ``--directions`` pair of
+error beside it; ``--collisions``: the one whose collisions were drawn so); the tables' first two orders are ``multiple.first_two_orders`` with each ``--directions`` pair of
 each kind of ``multiple.QUADRATURES``. ``--sample N`` checks N rays drawn at random (``--seed``) from the tuning
 split's twilight and deep-twilight classes instead, one line each. ``--limb``: Earth's limb from 1000 km instead
 (:func:`limb_ray`), order 2 alone against the tables' (their first two orders less their first), no Monte Carlo.
@@ -31,14 +32,14 @@ import numpy as np
 from planetviz import load_atmosphere
 from planetviz.quick_view.single_scattering import coefficients
 from planetviz.reference.single import single_scattering
-from planetviz.reference.stored import stored_reference
+from planetviz.reference.montecarlo import COLLISIONS, DEFAULT_COLLISIONS
 from planetviz.tables import QUALITY, TableCache, precompute
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.multiple import QUADRATURES, first_two_orders
 from planetviz.tables.precompute import sizes_for
-from planetviz.validation import CAMERAS, rays, suite_atmosphere
+from planetviz.validation import CAMERAS, suite_atmosphere
 from planetviz.validation.single_scattering import single_scattering_only
-from tables_orders import DATA
+from tables_orders import reference_orders
 
 
 def view_transmittance(atm, x, v, t):
@@ -113,15 +114,13 @@ def brute_force(atm, x, v, s, n_cos, n_phi, n_points):
     return sky[0] + ground[0], order2
 
 
-def suite_ray(atmosphere, light, camera, ray):
-    """(name, atmosphere, the ray's camera, view and sun directions, the stored reference's result for it and its
-    index there) of the suite's ray ``ray`` of ``camera`` in ``light`` on ``atmosphere`` (a preset or random-N)."""
+def suite_ray(atmosphere, light, camera, ray, collisions=DEFAULT_COLLISIONS):
+    """(atmosphere, the ray's camera, view and sun directions, the stored reference's result for it and its index
+    there) of the suite's ray ``ray`` of ``camera`` in ``light`` on ``atmosphere`` (a preset or random-N); the
+    reference's collisions drawn as ``collisions`` says."""
     atm, seed = suite_atmosphere(atmosphere)
-    batch = [rays(atm, seed, c, light, n=2) for c in CAMERAS]
-    cams, views, suns = (np.concatenate(x) for x in zip(*batch))
+    cams, views, suns, ref = reference_orders(atmosphere, atm, seed, light, 16384, collisions)
     k = 2 * CAMERAS.index(camera) + ray
-    ref = stored_reference(DATA, f"{atmosphere}-{light}", atm, cams, views, suns, samples=16384, seed=seed + 11,
-                           max_order=2)
     return atm, cams[k], views[k] / np.linalg.norm(views[k]), suns[k] / np.linalg.norm(suns[k]), ref, k
 
 
@@ -151,7 +150,7 @@ def sample(args):
         name = names[rng.integers(len(names))]
         light = ("twilight", "deep-twilight")[rng.integers(2)]
         camera, ray = CAMERAS[rng.integers(len(CAMERAS))], int(rng.integers(2))
-        atm, x, v, s, ref, k = suite_ray(name, light, camera, ray)
+        atm, x, v, s, ref, k = suite_ray(name, light, camera, ray, args.collisions)
         one, two = brute_force(atm, x, v, s, n_cos, n_phi, n_points)
         _, coarse = brute_force(atm, x, v, s, n_cos // 2, n_phi // 2, max(2 * n_points // 3, 2))
         got = tables_first_two_orders(atm, x, v, s, [(10, 10)], ["hemispheres", "lit-band"])
@@ -206,6 +205,8 @@ def main():
                     help="N rays drawn at random from the tuning split's twilight classes instead, one line each")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--limb", action="store_true", help="Earth's limb from 1000 km instead (limb_ray)")
+    ap.add_argument("--collisions", default=DEFAULT_COLLISIONS, choices=COLLISIONS,
+                    help="the stored reference's way of drawing its collisions (tables_orders.py's folders)")
     args = ap.parse_args()
     if len(args.directions) % 2:
         ap.error("--directions: pairs N_THETA N_PHI")
@@ -216,7 +217,7 @@ def main():
     if args.limb:
         limb(args)
         return
-    atm, x, v, s, ref, k = suite_ray(args.atmosphere, args.light, args.camera, args.ray)
+    atm, x, v, s, ref, k = suite_ray(args.atmosphere, args.light, args.camera, args.ray, args.collisions)
     up = x / np.linalg.norm(x)
     print(f"{args.atmosphere}, {args.camera} ray {args.ray} in {args.light}: "
           f"{np.linalg.norm(x) - atm.bottom_radius_m:.0f} m up, view {np.degrees(np.arcsin(v @ up)):.2f} deg, "
