@@ -11,8 +11,9 @@ from the sun, one grazing the horizon (the limb from space) and one toward the g
 space). The reference is the solver with ``--paths`` paths per ray and wavelength (``--twilight-paths`` for
 the 40% of rays in twilight; default: the reference's high quality for both; ``--collisions``: how it draws its
 collisions), stored in benchmarks/data/reference-<preset>[-twilight]-<paths>[-<collisions> where not the
-default].npz with the atmosphere's parameters, the rays, the seed, the solver's version and the standard errors (planetviz.reference.stored: recomputed when absent, or
-computed for other parameters or by another version of the solver).
+default].npz with the atmosphere's parameters, the rays, the seed, the solver's version and the standard errors
+(planetviz.reference.stored: recomputed when absent, or computed for other parameters or by another version of the
+solver).
 
 Errors are relative, over radiances above 1e-5 / sr. The reference has its own noise, so the
 RMS error of the tables is estimated with the noise removed: sqrt(mean(e^2) - mean(s^2)), e the relative
