@@ -21,8 +21,9 @@ error. About 30 s per point of the view ray at the default grid, on one core.
 
 The Monte Carlo reference is the stored one of ``tables_orders.py`` (``max_order=2``, 16384 paths, its standard
 error beside it; ``--collisions``: the one whose collisions were drawn so); the tables' first two orders are
-``multiple.first_two_orders`` with each ``--directions`` pair of each kind of ``multiple.QUADRATURES``. ``--sample N`` checks N rays drawn at random (``--seed``) from the tuning
-split's twilight and deep-twilight classes instead, one line each. ``--limb``: Earth's limb from 1000 km instead
+``multiple.first_two_orders`` with each ``--directions`` pair of each kind of ``multiple.QUADRATURES``.
+``--sample N`` checks N rays drawn at random (``--seed``) from the tuning split's twilight and deep-twilight classes
+instead, one line each. ``--limb``: Earth's limb from 1000 km instead
 (:func:`limb_ray`), order 2 alone against the tables' (their first two orders less their first), no Monte Carlo.
 """
 import argparse
