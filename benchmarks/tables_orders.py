@@ -41,7 +41,7 @@ from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.multiple import QUADRATURES, first_two_orders
 from planetviz.tables.precompute import sizes_for
 from planetviz.validation import CAMERAS, LIGHT, SPLITS, rays
-from tables_suite import cases
+from tables_suite import cases, data_folder
 
 DATA = Path(__file__).resolve().parent / "data" / "orders"
 
@@ -52,8 +52,7 @@ def reference_orders(name, atm, seed, light, paths, collisions=DEFAULT_COLLISION
     its collisions drawn as ``collisions`` says), stored in DATA (the solver's default) or DATA-<collisions>."""
     batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
     cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-    folder = DATA if collisions == DEFAULT_COLLISIONS else DATA.with_name(f"{DATA.name}-{collisions}")
-    ref = stored_reference(folder, f"{name}-{light}", atm, cams, views, suns, samples=paths, seed=seed + 11,
+    ref = stored_reference(data_folder(DATA, collisions), f"{name}-{light}", atm, cams, views, suns, samples=paths, seed=seed + 11,
                            max_order=2, collisions=collisions)
     return cams, views, suns, ref
 

@@ -50,6 +50,12 @@ from planetviz.validation.single_scattering import reference_single_scattering, 
 DATA = Path(__file__).resolve().parent / "data" / "suite"
 
 
+def data_folder(base, collisions):
+    """Where references whose collisions are drawn as ``collisions`` says are stored: ``base`` for the solver's
+    default, ``base``-<collisions> for the other way."""
+    return base if collisions == DEFAULT_COLLISIONS else base.with_name(f"{base.name}-{collisions}")
+
+
 def cases(split, count, presets):
     """(name, atmosphere, seed) of a split: its first ``count`` random atmospheres, and the presets (tuning)."""
     for seed in list(SPLITS[split])[:count]:
@@ -72,7 +78,7 @@ def compare(split, args):
         sizes = replace(sizes, quadrature=args.quadrature)
     if args.transmittance:
         sizes = replace(sizes, transmittance=tuple(args.transmittance))
-    folder = DATA if args.collisions == DEFAULT_COLLISIONS else DATA.with_name(f"{DATA.name}-{args.collisions}")
+    folder = data_folder(DATA, args.collisions)
     for name, atm, seed in cases(split, args.atmospheres, args.presets):
         tables = precompute(atm, sizes, cache=cache)
         for light in LIGHT:
