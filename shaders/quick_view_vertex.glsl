@@ -2,7 +2,8 @@
 // view.glsl and interpolation.glsl).
 // The GLSL twin of planetviz/quick_view/single_scattering.py (same sampling, same names): for the direction of a
 // vertex of the direction mesh (direction_mesh.glsl), L = sum_i Delta_i J(p_i) exp(-tau(x, p_i) - tau(p_i, sun)) V_i
-// plus the sunlit ground, with the midpoint rule on the intervals of view_edges, tau(x, p_i) summed over them and
+// plus the sunlit ground, with the midpoint rule on the intervals of view_edges (ground_view_edges on a ray that
+// reaches the ground), tau(x, p_i) summed over them and
 // each other optical depth on the intervals of density_edges from the path's lower end. With multiple_scattering = 1, the orders above the first from the table
 // of the mean radiance Psi(h, mu_s) of the light scattered at least once (planetviz/quick_view/multiple_scattering.py):
 // sum_i Delta_i beta_s(h_i) Psi exp(-tau(x, p_i)), and the sky's irradiance on the ground E_sky(mu_s) added to the
@@ -15,6 +16,9 @@
 //   density_samples        int    m, points on each optical-depth path
 //   view_edges             vec4[EDGE_VECTORS]  the edges (i / n)^e of the view path's intervals, i = 0 .. n,
 //                                 four to a vector (view_edge(i)); e = 3, the paper's power law, or 1, equidistant
+//   ground_view_edges      vec4[EDGE_VECTORS]  the edges of a view path that reaches the ground: half the
+//                                 intervals on the same law from the camera's end, half mirrored from the ground
+//                                 (ground_sample_edges in NumPy; ground_view_edge(i))
 //   density_edges          vec4[EDGE_VECTORS]  the same (j / m)^e of an optical-depth path (e = 2 or 1;
 //                                 density_edge(j))
 //   rayleigh_scattering    vec4[MAX_GROUPS]  beta_R^s at the ground [1/m]
@@ -64,6 +68,7 @@ uniform int view_samples;
 uniform int density_samples;
 #define EDGE_VECTORS ((MAX_SAMPLES + 4) / 4)
 uniform vec4 view_edges[EDGE_VECTORS];
+uniform vec4 ground_view_edges[EDGE_VECTORS];
 uniform vec4 density_edges[EDGE_VECTORS];
 uniform vec4 rayleigh_scattering[MAX_GROUPS];
 uniform vec4 mie_scattering[MAX_GROUPS];
@@ -78,6 +83,7 @@ uniform vec2 multiple_scattering_size;
 
 // Element i of the packed float arrays (four to a vec4).
 float view_edge(int i) { return view_edges[i / 4][i % 4]; }
+float ground_view_edge(int i) { return ground_view_edges[i / 4][i % 4]; }
 float density_edge(int j) { return density_edges[j / 4][j % 4]; }
 float component_value(int i) { return component_table[i / 4][i % 4]; }
 
@@ -198,7 +204,8 @@ vec4 quick_view_inscatter(vec3 v, int g) {
     vec4 l = vec4(0.0);
     vec4 tau_before = vec4(0.0);            // tau from x to the interval's start (view_optical_depth in NumPy)
     for (int i = 0; i < view_samples; ++i) {
-        float a = view_edge(i), b = view_edge(i + 1);
+        float a = ground ? ground_view_edge(i) : view_edge(i);
+        float b = ground ? ground_view_edge(i + 1) : view_edge(i + 1);
         float t = 0.5 * (a + b) * path;
         vec3 p = x + t * v;
         float h = length(p) - bottom_radius;

@@ -9,7 +9,9 @@ where it enters the atmosphere when x is in space) along v, with D the length of
       + T(x, y) (albedo / pi) T_sun(y) max(n . s, 0)                    (rays that hit the ground at y)
 
 with the paper's midpoint rule on non-equidistant points (Sect. 6): a_i = (i / n)^3, b_i = ((i + 1) / n)^3,
-p_i = x + D (a_i + b_i) / 2 v, Delta_i = D (b_i - a_i); V_i = 0 where the planet hides the sun from p_i. The sun's
+p_i = x + D (a_i + b_i) / 2 v, Delta_i = D (b_i - a_i); V_i = 0 where the planet hides the sun from p_i. On a ray
+that reaches the ground half the points follow that law from x and half mirror it from the ground
+(:func:`ground_sample_edges`): from space, x is the top of the atmosphere. The sun's
 optical depth tau(p_i, sun) is the same midpoint rule with (j / m)^2 along its own path, starting where the density
 is highest: at the path's lower end (for the ground's paths from space, their far end). The paper computes
 tau(x, p_i) with samples of its own as well; here it is summed over the view path's own intervals
@@ -61,9 +63,29 @@ def check_settings(samples, density_samples=None, sampling="power", terms="physi
     return int(samples), int(density_samples or DEFAULT_DENSITY_SAMPLES)
 
 
+def sample_edges(n, exponent):
+    """(n + 1,) the edges (i / n)^exponent, i = 0 .. n, of a path's intervals as fractions of its length: dense at
+    its start (the view path's camera end, an optical-depth path's lower end)."""
+    return (np.arange(n + 1) / n) ** exponent
+
+
+def ground_sample_edges(n, exponent):
+    """(n + 1,) the edges of a view path that reaches the ground, as fractions of its length: the first n // 2
+    intervals at 0.5 (i / k)^exponent (k = n // 2, dense at the camera's end) and the others mirrored,
+    1 - 0.5 ((n - i) / (n - k))^exponent, dense at the ground, where the density is highest. From space the
+    camera's end is the top of the atmosphere: with every interval dense there (:func:`sample_edges`) the last one
+    of a ray into an optically thick atmosphere spans most of its optical depth, and the 10-bar planet's disc read
+    6-14% above the single-scattering integral at 20 points, 1.3-2% with these edges (tests/test_quick_view_physics.py).
+    The camera's end keeps half the points for rays from within the atmosphere, where the air is densest near the
+    camera too."""
+    k = n // 2
+    i = np.arange(n + 1)
+    return np.where(i <= k, 0.5 * (i / max(k, 1)) ** exponent, 1.0 - 0.5 * ((n - i) / (n - k)) ** exponent)
+
+
 def sample_fractions(n, exponent):
     """Midpoints (a_i + b_i) / 2 and widths b_i - a_i of the intervals [(i / n)^e, ((i + 1) / n)^e], i < n."""
-    edges = (np.arange(n + 1) / n) ** exponent
+    edges = sample_edges(n, exponent)
     return 0.5 * (edges[:-1] + edges[1:]), np.diff(edges)
 
 
@@ -117,14 +139,13 @@ def extinction_at(extinction, bottom, points):
     return sum(profile.density(h)[..., None] * np.asarray(ext) for ext, profile in extinction)
 
 
-def view_optical_depth(extinction, bottom, x, v, length, n, exponent):
+def view_optical_depth(extinction, bottom, x, v, length, edges):
     """tau (N, n, W) from x to each midpoint p_i of the view path x + t v, 0 <= t <= length, of intervals
-    [a_i, b_i] at (i / n)^exponent: each interval's optical depth by the 2-point Gauss-Legendre rule, summed from x,
-    and over [a_i, p_i] half the interval's width times the extinction at its first node. Two evaluations per
-    interval, where an optical depth of its own from x to each p_i takes m."""
-    _, width = sample_fractions(n, exponent)
-    a = length[:, None] * (np.cumsum(width) - width)                 # (N, n)
-    w = length[:, None] * width
+    [a_i, b_i] at the fractions ``edges`` (N, n + 1) of its length: each interval's optical depth by the 2-point
+    Gauss-Legendre rule, summed from x, and over [a_i, p_i] half the interval's width times the extinction at its
+    first node. Two evaluations per interval, where an optical depth of its own from x to each p_i takes m."""
+    a = length[:, None] * edges[:, :-1]                              # (N, n)
+    w = length[:, None] * np.diff(edges, axis=1)
     start, toward = x[:, None, :], v[:, None, :]
     first = extinction_at(extinction, bottom, start + (a + (0.5 - GAUSS_OFFSET) * w)[..., None] * toward)
     second = extinction_at(extinction, bottom, start + (a + (0.5 + GAUSS_OFFSET) * w)[..., None] * toward)
@@ -169,13 +190,14 @@ def quick_view_radiance(atm, camera, view_dir, sun_dir, samples=DEFAULT_SAMPLES,
     nu = np.clip(np.einsum("ni,ni->n", v, s), -1.0, 1.0)
     p_r, p_m = _phases(atm, nu, terms)
 
-    mid, width = sample_fractions(n, e_view)
+    edges = np.where(hits[:, None], ground_sample_edges(n, e_view), sample_edges(n, e_view))   # (N, n + 1)
+    mid, width = 0.5 * (edges[:, :-1] + edges[:, 1:]), np.diff(edges, axis=1)
     t_i = length[:, None] * mid                                           # (N, n)
     p = x[:, None, :] + t_i[..., None] * v[:, None, :]
     h = np.linalg.norm(p, axis=-1) - R
     s_i = np.broadcast_to(s[:, None, :], p.shape)
     lit = ~np.isfinite(distance_to_ground(p, s_i, R))
-    tau_view = view_optical_depth(extinction, R, x, v, length, n, e_view)
+    tau_view = view_optical_depth(extinction, R, x, v, length, edges)
     tau_sun = path_optical_depth(extinction, R, p, s_i, distance_to_top_exit(p, s_i, top), m, e_depth)
     j = (b_r * atm.rayleigh.profile.density(h)[..., None] * p_r[:, None, :]
          + b_m * atm.mie.profile.density(h)[..., None] * p_m[:, None, :])

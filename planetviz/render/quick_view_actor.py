@@ -17,7 +17,7 @@ from vtkmodules.vtkCommonCore import vtkCommand
 
 from ..quick_view.multiple_scattering import GROUND_SKY_COLUMNS, LOG_FLOOR, MS_SIZE, ORDERS, quick_view_tables
 from ..quick_view.single_scattering import (DEFAULT_SAMPLES, GAUSS_OFFSET, MAX_SAMPLES, SAMPLING, check_settings,
-                                           coefficients)
+                                           coefficients, ground_sample_edges, sample_edges)
 from .background import BACKGROUND_NICENESS, BackgroundJob
 from .direction_mesh import DirectionMeshActor
 from .shaders import shader_code
@@ -60,11 +60,12 @@ def packed(values):
     return out.reshape(-1, 4)
 
 
-def sample_edges(n, exponent):
-    """(MAX_SAMPLES + 1,) the edges (i / n)^exponent, i = 0 .. n, of a path's intervals (then zeros)."""
-    edges = np.zeros(MAX_SAMPLES + 1)
-    edges[:n + 1] = (np.arange(n + 1) / n) ** exponent
-    return edges
+def edge_uniform(edges):
+    """(MAX_SAMPLES + 1,) a path's n + 1 interval edges (single_scattering.sample_edges, ground_sample_edges), then
+    zeros: the shaders' edge arrays."""
+    out = np.zeros(MAX_SAMPLES + 1)
+    out[:len(edges)] = edges
+    return out
 
 
 #: The textures of the orders above the first, replaced when their table is ready.
@@ -130,8 +131,9 @@ class QuickViewActor(DirectionMeshActor):
         return {
             **atmosphere_uniforms(atm),
             "view_samples": ("i", self.samples), "density_samples": ("i", self.density_samples),
-            "view_edges": ("4fv", packed(sample_edges(self.samples, e_view))),
-            "density_edges": ("4fv", packed(sample_edges(self.density_samples, e_depth))),
+            "view_edges": ("4fv", packed(edge_uniform(sample_edges(self.samples, e_view)))),
+            "ground_view_edges": ("4fv", packed(edge_uniform(ground_sample_edges(self.samples, e_view)))),
+            "density_edges": ("4fv", packed(edge_uniform(sample_edges(self.density_samples, e_depth)))),
             "rayleigh_scattering": ("4fv", per_group(b_r)), "mie_scattering": ("4fv", per_group(b_m)),
             "component_extinction": ("4fv", ext.reshape(-1, 4)),
             "component_profile": ("3fv", prof), "component_table": ("4fv", packed(table.ravel())),
