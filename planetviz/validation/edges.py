@@ -1,7 +1,8 @@
 """Atmospheres at the edges of what the files accept, conservative atmospheres and the energy balance.
 
 :func:`edge_atmosphere` moves one field of the standard Earth to an end of its range (:data:`EDGE_NAMES`);
-:func:`conservative_atmosphere` has no absorption and a white ground, so that the energy entering the top
+:func:`conservative` (of any atmosphere; :func:`conservative_atmosphere` of a preset) has no absorption and a white
+ground, so that the energy entering the top
 leaves it again (:func:`flux_balance`); :func:`spectral_earth` is the Earth at any number of wavelengths.
 """
 from __future__ import annotations
@@ -88,12 +89,12 @@ EDGE_NAMES = ("scale heights 10 m", "scale heights 1000 km", "thickness 1 km", "
               "planet 100 km", "planet 1e8 m", "no molecules, low haze", "optical depth 100", "64 wavelengths")
 
 
-def conservative_atmosphere(radius=None, preset="earth", albedo=1.0) -> Atmosphere:
-    """The preset (the Earth) with nothing absorbed: no absorbing layers (ozone), the particles' extinction =
-    their scattering, a ground of ``albedo`` (white); with ``radius``, on a planet of that radius (the same
-    thickness of air)."""
-    d = load_atmosphere(preset).to_dict()
-    d["name"] = f"{preset}-conservative" + ("" if radius is None else f"-{radius:g}")
+def conservative(atm, albedo=1.0, radius=None, name=None) -> Atmosphere:
+    """``atm`` with nothing absorbed: no absorbing layers, the particles' extinction = their scattering, a ground
+    of ``albedo`` (white); with ``radius``, on a planet of that radius (the same thickness of air); named ``name``
+    (by default ``atm``'s name with "-conservative" and the radius)."""
+    d = atm.to_dict()
+    d["name"] = name or f"{atm.name}-conservative" + ("" if radius is None else f"-{radius:g}")
     d["absorption"] = []
     d["mie"]["extinction_m"] = list(d["mie"]["scattering_m"])
     d["ground_albedo"] = [albedo] * len(d["wavelengths_nm"])
@@ -101,6 +102,13 @@ def conservative_atmosphere(radius=None, preset="earth", albedo=1.0) -> Atmosphe
         d["top_radius_m"] = radius + (d["top_radius_m"] - d["bottom_radius_m"])
         d["bottom_radius_m"] = radius
     return Atmosphere.from_dict(d)
+
+
+def conservative_atmosphere(radius=None, preset="earth", albedo=1.0) -> Atmosphere:
+    """The preset (the Earth) made :func:`conservative`: no absorbing layers (ozone), the particles' extinction =
+    their scattering, a ground of ``albedo`` (white); with ``radius``, on a planet of that radius."""
+    return conservative(load_atmosphere(preset), albedo, radius,
+                        name=f"{preset}-conservative" + ("" if radius is None else f"-{radius:g}"))
 
 
 def upward_flux_at_the_top(atm, radiance, n=64):
