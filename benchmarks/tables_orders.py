@@ -52,8 +52,8 @@ def reference_orders(name, atm, seed, light, paths, collisions=DEFAULT_COLLISION
     its collisions drawn as ``collisions`` says), stored in DATA (the solver's default) or DATA-<collisions>."""
     batch = [rays(atm, seed, camera, light, n=2) for camera in CAMERAS]
     cams, views, suns = (np.concatenate(x) for x in zip(*batch))
-    ref = stored_reference(data_folder(DATA, collisions), f"{name}-{light}", atm, cams, views, suns, samples=paths, seed=seed + 11,
-                           max_order=2, collisions=collisions)
+    ref = stored_reference(data_folder(DATA, collisions), f"{name}-{light}", atm, cams, views, suns, samples=paths,
+                           seed=seed + 11, max_order=2, collisions=collisions)
     return cams, views, suns, ref
 
 

@@ -641,11 +641,9 @@ def tail_settled(now, before, total, tolerance):
     axes = tuple(range(now.ndim - 1))
     s_now, s_before, s_total = now.sum(axes), before.sum(axes), total.sum(axes)
     empty = (s_now <= 0.0) & (s_before <= 0.0)
-    q = np.divide(s_now, s_before, out=np.full_like(s_now, np.inf), where=s_before > 0.0)
-    falls = q < 1.0
-    q = np.where(falls, q, 0.0)
-    tail = np.divide(s_now * q, 1.0 - q, out=np.full_like(s_now, np.inf), where=falls)
-    return bool(np.all(empty | (falls & (tail <= tolerance * s_total))))
+    falls = s_now < s_before
+    q = np.where(falls, s_now / np.where(falls, s_before, 1.0), 0.0)
+    return bool(np.all(empty | (falls & (s_now * q / (1.0 - q) <= tolerance * s_total))))
 
 
 class MultipleScattering(NamedTuple):
