@@ -4,6 +4,7 @@ planets' errors are resolved to DISORT's own 0.3% (the Monte Carlo reference's n
     python benchmarks/tables_disort.py [--radii 1e8 3e8 1e9] [--quality standard] [--suns 30 50 70]
                                        [--ratio-limit K]
     python benchmarks/tables_disort.py --random SEED [SEED ...] [--quality standard] [--suns 30 70]
+                                       [--thick-samples N]
 
 Atmospheres: planetviz.validation.disort.plane_parallel_atmosphere (Earth's Rayleigh layer, 60 km, ground
 albedo 0.3; with and without an absorbing aerosol of g1 = 0.85) on planets of each radius. Rays: at the ground
@@ -20,9 +21,11 @@ in their plane-parallel limit (``plane_parallel_twin``: on a planet of 1e9 m, th
 their absorbing layers), the same views. Printed per atmosphere: the multiple-scattering tables' nu and mu_s
 texels (``precompute.sizes_for``), the precompute's time (no cache), the RMS, 95th percentile and largest
 relative difference over rays and wavelengths, and the mean per wavelength at the ground and at the top.
-DISORT is exact here within its own 0.3% (64 streams, ../shared/notes/disort.md), so every figure is resolved.
+``--thick-samples`` sets precompute.THICK_MULTIPLE_SAMPLES for this run (the nodes per side along the
+multiple-scattering tables' rays in optically thick atmospheres). DISORT is exact here within its own 0.3% (64 streams, ../shared/notes/disort.md), so every figure is resolved.
 """
 import argparse
+import importlib
 import time
 
 import numpy as np
@@ -43,7 +46,10 @@ def main():
     ap.add_argument("--ratio-limit", type=float, default=None)
     ap.add_argument("--no-view-warp", action="store_true")
     ap.add_argument("--random", type=int, nargs="+", default=None, help="random atmospheres' seeds")
+    ap.add_argument("--thick-samples", type=int, default=None, metavar="N")
     args = ap.parse_args()
+    if args.thick_samples is not None:
+        importlib.import_module("planetviz.tables.precompute").THICK_MULTIPLE_SAMPLES = args.thick_samples
     if args.random:
         return random_twins(args.random, QUALITY[args.quality], args.suns)
     cache = TableCache()

@@ -342,6 +342,8 @@ def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_and_mu_s_texels_in_the
     # dust's lobe g = 0.86-0.91) and the Earth with 10 times its aerosol (then 54% of the scattering at 440 nm) get
     # the level's lobe_nu nu texels (16 at standard and high, draft's 4) and lobe_mu_s mu_s texels (48 at standard
     # and high, draft's 16); the Earth (its aerosol, g = 0.8, 2-10% of the scattering) keeps its level's sizes.
+    # The two thick ones integrate the scattering density with at least 8 nodes per side (THICK_MULTIPLE_SAMPLES;
+    # the high level's own 8 left alone), the others with the level's.
     from planetviz.tables.precompute import sizes_for
     d = EARTH.to_dict()
     d["rayleigh"]["profile"]["scale_height_m"] = d["mie"]["profile"]["scale_height_m"] = 1e6
@@ -354,9 +356,11 @@ def test_thick_and_lobed_atmospheres_get_more_rows_and_nu_and_mu_s_texels_in_the
         n_nu, n_mu_s, n_mu, n_r = QUALITY[level].multiple
         for atm in (load_atmosphere("exo-co2-thick"), tall):
             assert sizes_for(atm, QUALITY[level]).multiple == (n_nu, n_mu_s, n_mu, 16)
+            assert sizes_for(atm, QUALITY[level]).multiple_samples == max(QUALITY[level].multiple_samples, 8)
         for atm in (load_atmosphere("mars"), hazy):
             assert sizes_for(atm, QUALITY[level]).multiple == (QUALITY[level].lobe_nu, QUALITY[level].lobe_mu_s, n_mu,
                                                                n_r)
+            assert sizes_for(atm, QUALITY[level]).multiple_samples == QUALITY[level].multiple_samples
         assert QUALITY[level].lobe_nu == (4 if level == "draft" else 16)
         assert QUALITY[level].lobe_mu_s == {"draft": 16, "standard": 48, "high": 48}[level]
         assert sizes_for(EARTH, QUALITY[level]) == QUALITY[level]

@@ -98,6 +98,15 @@ class Tables:
 
 #: An optically thick atmosphere's multiple-scattering table has at least this many r rows (``sizes_for``).
 THICK_MULTIPLE_ROWS = 16
+#: An optically thick atmosphere's scattering density is integrated along the multiple-scattering tables' rays with
+#: at least this many nodes per side of the closest approach (``sizes_for``; on every segment but the first half as
+#: many, ``nodes.split_ray_nodes``): the rays of the tables' texels and, in the density's iteration, the quadrature
+#: directions. With the standard level's 4, random atmospheres' plane-parallel twins against DISORT read 5.38% RMS
+#: (100088: its particles within the lowest 6 km of a 1000 km shell), 1.97% (random atmosphere 1, optical depth 7.1)
+#: and 0.90% (100807); with 8, 0.75%, 1.32% and 0.37% (``python benchmarks/tables_disort.py --random``); made
+#: conservative over a black ground, random atmospheres 1 and 100010 sent out 1.029 and 1.025 times the sun's flux
+#: at 440 nm, 0.997 and 0.999 with 8 (``python benchmarks/energy_balance.py --random``).
+THICK_MULTIPLE_SAMPLES = 8
 #: Under a forward lobe above this g, where the particles hold most of the scattering, the multiple-scattering tables
 #: have the ``lobe_nu`` and ``lobe_mu_s`` texels (``sizes_for``): random atmosphere 4's plane-parallel twin (one lobe
 #: of g = 0.65, optical depth 2.8) read 2.8% RMS off DISORT with the sun 70 deg from the zenith at 4 nu texels,
@@ -118,7 +127,8 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     1. in an optically thick atmosphere the multiple-scattering table has at least ``THICK_MULTIPLE_ROWS`` r rows
        (the standard and high levels have as many; the draft level 8). With 8, the 10-bar CO2 planet's 12 test rays
        read 2.2% RMS off the reference at standard (up to 5.4% low at 440 nm, where the light changes with the
-       altitude's optical depth); with 16, 1.5% (tests/test_tables.py's rays, the reference's noise 0.9%);
+       altitude's optical depth); with 16, 1.5% (tests/test_tables.py's rays, the reference's noise 0.9%); and the
+       scattering density is integrated with at least ``THICK_MULTIPLE_SAMPLES`` nodes per side;
     2. under a forward lobe (``validated.strongest_forward_lobe`` above ``LOBE_TEXELS_G``, or
        ``validated.thick_forward_lobe`` above ``THICK_LOBE_TEXELS_G``) the multiple-scattering tables have at least
        ``sizes.lobe_nu`` nu texels: their particles' part is stored over
@@ -128,11 +138,12 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
        within 1.6% and 1.1% (docs/tables.md, "Quality levels").
     """
     n_nu, n_mu_s, n_mu, n_r = sizes.multiple
+    samples = sizes.multiple_samples
     if is_optically_thick(atm):
-        n_r = max(n_r, THICK_MULTIPLE_ROWS)
+        n_r, samples = max(n_r, THICK_MULTIPLE_ROWS), max(samples, THICK_MULTIPLE_SAMPLES)
     if strongest_forward_lobe(atm) > LOBE_TEXELS_G or thick_forward_lobe(atm) > THICK_LOBE_TEXELS_G:
         n_nu, n_mu_s = max(n_nu, sizes.lobe_nu), max(n_mu_s, sizes.lobe_mu_s)
-    return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r))
+    return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r), multiple_samples=samples)
 
 
 def transmittance_rays(atm, sizes: TableSizes):

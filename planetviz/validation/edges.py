@@ -135,8 +135,11 @@ def flux_balance(tables, atm, elevation_deg=60.0, n_mu=48, n_phi=64):
     """(F_up(top) + E_sky(ground) + E_sun(ground)) / mu_s per wavelength, every flux from ``tables``: over a black
     ground with nothing absorbed every photon of the sun's beam either leaves at the top or reaches the ground,
     so this is 1 (above a plane; the Earth's sphere, the sun 60 deg up: within 0.003 of it). Radiance 1 m inside
-    the top looking down and 1 m above the ground looking up, Gauss-Legendre in mu (n_mu) and the midpoint rule
-    in azimuth (n_phi) over each hemisphere."""
+    the top looking down and 1 mm above the ground looking up, Gauss-Legendre in mu (n_mu) and the midpoint rule
+    in azimuth (n_phi) over each hemisphere. The ground's point is that low because the air below it scatters
+    light back up, which the sum leaves out: 1 m above the ground of an atmosphere whose particles have a
+    scale height of 20 m (random atmosphere 100014) holds 5% of their optical depth below it, and the sum read
+    1.011-1.027 there against DISORT's 1 for the same fluxes."""
     x, w = np.polynomial.legendre.leggauss(n_mu)
     mu, phi = np.meshgrid(0.5 * (x + 1.0), (np.arange(n_phi) + 0.5) * 2 * np.pi / n_phi, indexing="ij")
     weight = (np.outer(0.5 * w, np.full(n_phi, 2 * np.pi / n_phi)) * mu).reshape(-1, 1)
@@ -145,8 +148,9 @@ def flux_balance(tables, atm, elevation_deg=60.0, n_mu=48, n_phi=64):
     mu_s = np.sin(np.radians(elevation_deg))
     sun = np.array([np.cos(np.radians(elevation_deg)), 0.0, mu_s])
     total = 0.0
-    for r, views in ((tables.top - 1.0, up * [1.0, 1.0, -1.0]), (tables.bottom + 1.0, up)):
+    ground = tables.bottom + 1e-3
+    for r, views in ((tables.top - 1.0, up * [1.0, 1.0, -1.0]), (ground, up)):
         radiance, _ = sky_radiance(tables, atm, np.tile([0.0, 0.0, r], (len(views), 1)), views, sun)
         total = total + (radiance * weight).sum(0)
-    direct = get_transmittance_to_sun(tables, np.array([tables.bottom + 1.0]), np.array([mu_s]))[0] * mu_s
+    direct = get_transmittance_to_sun(tables, np.array([ground]), np.array([mu_s]))[0] * mu_s
     return (total + direct) / mu_s
