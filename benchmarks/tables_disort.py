@@ -22,7 +22,8 @@ their absorbing layers), the same views. Printed per atmosphere: the multiple-sc
 texels (``precompute.sizes_for``), the precompute's time (no cache), the RMS, 95th percentile and largest
 relative difference over rays and wavelengths, and the mean per wavelength at the ground and at the top.
 ``--thick-samples`` sets precompute.THICK_MULTIPLE_SAMPLES for this run (the nodes per side along the
-multiple-scattering tables' rays in optically thick atmospheres). DISORT is exact here within its own 0.3% (64 streams, ../shared/notes/disort.md), so every figure is resolved.
+multiple-scattering tables' rays in optically thick atmospheres). DISORT is exact here within its own 0.3% (64
+streams, ../shared/notes/disort.md), so every figure is resolved.
 """
 import argparse
 import importlib
