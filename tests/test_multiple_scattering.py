@@ -509,14 +509,14 @@ def test_first_two_orders_along_the_top_of_an_absorbing_layer_match_a_brute_forc
 
 def test_the_nodes_along_rays_through_optically_thick_air_hold_every_wavelengths_light():
     # In optically thick air the stage integrates the scattering density along S's rays weighted by beta T: each
-    # wavelength's light comes from its own first attenuation lengths, a few hundred metres at 440 nm and tens of
-    # kilometres at 680 nm on random atmosphere 100807's plane-parallel twin (vertical optical depth 8.3 at 440
+    # wavelength's light comes from its own first attenuation lengths, 75 m at 440 nm and 280 m at 680 nm at the
+    # ground of random atmosphere 100807's plane-parallel twin (a 20 km slab; vertical optical depth 8.3 at 440
     # nm, 1.65 at 680; held-out split). The nodes' integral of beta T along every ray of the standard tables'
     # grid against its exact value 1 - T(d): the bound, 0.5% RMS per wavelength, is half the daylight target
     # (1% RMS), the share a quadrature of the density may take; the exact value's own error (16 against 32
-    # panels of the reference's optical depth) is checked below 1e-4. On the three segments of thin atmospheres' split rays it
-    # reads 1.5% / 0.52% / 1.0% RMS at 680 / 550 / 440 nm, which fails; the five of thick atmospheres 0.19% /
-    # 0.10% / 0.11%.
+    # panels of the reference's optical depth) is checked below 1e-4. On the three segments of thin atmospheres'
+    # split rays it reads 0.94% / 0.02% / 0.01% RMS at 680 / 550 / 440 nm, which fails; the five of thick
+    # atmospheres 0.05% / 0.00% / 0.00%.
     from planetviz.validation import random_atmosphere
     from planetviz.validation.disort import plane_parallel_twin
     from planetviz.validation.ray_nodes import extinguished_light_error

@@ -111,12 +111,13 @@ def _random_4_against_disort():
 def test_an_optically_thick_forward_lobed_sky_against_disort():
     # The daylight target (RMS 1%, p95 3%) on random atmosphere 4 of the tuning split without its absorbing layer,
     # on a planet of 1e9 m: optical depth 1.6 / 2.8 / 4.9 at 680 / 550 / 440 nm, particles that scatter backward at
-    # 680 nm and forward (g 0.56-0.65) at the others, ground albedo 0.74-0.94. DISORT (64 streams, exact here within
-    # its own 0.3%, ../shared/notes/disort.md) at the ground looking up and at the top looking down, the views of
-    # ground_and_top_views, the sun 30 and 70 deg from the zenith. With the rays through the thick air split at the
-    # 440 nm depth alone (nodes.split_ray_nodes), every view at 550 and 440 nm read 1-2% low (1.22% RMS). Its
-    # independent ceiling: DISORT's own sky with the particles' phase made isotropic, which differs from the lobed
-    # one by 12.4% RMS (p95 23%): tables that read further off than dropping the lobes altogether have regressed.
+    # 680 nm and forward (g 0.56-0.65) at the others, ground albedo 0.74-0.94; a 20 km slab. DISORT (64 streams,
+    # exact here within its own 0.3%, ../shared/notes/disort.md) at the ground looking up and at the top looking
+    # down, the views of ground_and_top_views, the sun 30 and 70 deg from the zenith. With the rays through the
+    # thick air split at the 440 nm depth alone (nodes.split_ray_nodes), every view at 550 and 440 nm read 1-2% low
+    # (1.22% RMS; the twin then at its own 2300 km). Its independent ceiling: DISORT's own sky with the particles'
+    # phase made isotropic, which differs from the lobed one by 12.4% RMS (p95 23%): tables that read further off
+    # than dropping the lobes altogether have regressed.
     from conftest import hold_to_targets
     errors, lobe = (np.abs(e) for e in _random_4_against_disort())
     figures = {"rms": np.sqrt(np.mean(errors ** 2)), "p95": np.percentile(errors, 95)}
@@ -131,7 +132,8 @@ def test_a_forward_lobe_in_optically_thick_air_meets_the_daylight_target_against
     # limit (optical depth 4.9; the particles' scattering optical depth 2.4, their share 0.47, g1 = 0.56 with weight
     # 0.52), against DISORT (exact within its own 0.3%), the views and suns of _against_disort. With the
     # multiple-scattering tables' 4 nu and 32 mu_s texels (precompute.sizes_for without its thick_forward_lobe
-    # rule) it reads 3.4% RMS (p95 6.2%), every view low, from the ground 5-7% with the sun 70 deg from the zenith.
+    # rule) it read 3.4% RMS (p95 6.2%), every view low, from the ground 5-7% with the sun 70 deg from the zenith
+    # (the twin then at its own 2300 km).
     errors = np.abs(_random_4_against_disort()[0][:, 2])
     assert np.sqrt(np.mean(errors ** 2)) < 0.01
     assert np.percentile(errors, 95) < 0.03
@@ -145,8 +147,9 @@ def test_a_wavelengths_sky_does_not_depend_on_the_other_wavelengths():
     # channels does not depend on the level: where the rays through the optically thick air are split
     # (nodes.split_ray_nodes). The bound is the tables' own quadrature error along the rays: computed alone, the
     # sky moves by at most 0.36% with 4 times the nodes at the standard level, 0.04% at draft. Split at the 440 nm
-    # depth alone (two segments of as many nodes), it reads 1.3% low on average at standard, up to 1.7%, and 1.2%
-    # low, up to 1.6%, at draft; on the five segments of thick atmospheres, at most 0.075% at draft.
+    # depth alone (two segments of as many nodes), it read 1.3% low on average at standard, up to 1.7%, and 1.2%
+    # low, up to 1.6%, at draft; on the five segments of thick atmospheres, at most 0.075% at draft (the twin then
+    # at its own 2300 km).
     from planetviz.validation.disort import ground_and_top_views
 
     def sky(atm, tables, w):
