@@ -11,8 +11,8 @@ from ..model.presets import load_atmosphere
 
 
 def plane_parallel_atmosphere(aerosol: bool, radius_m: float = 1.0e9):
-    """A planet of radius ``radius_m`` (at the format's largest, 1e9 m, plane-parallel to 1e-4 over a 60 km
-    atmosphere), Earth's Rayleigh layer, optionally an absorbing aerosol with a peaked phase function (g1 = 0.85,
+    """A planet of radius ``radius_m`` (at the format's largest, 1e9 m, plane-parallel to 1e-3 over a 60 km
+    atmosphere: :func:`curvature_error`), Earth's Rayleigh layer, optionally an absorbing aerosol with a peaked phase function (g1 = 0.85,
     g2 = -0.1, alpha = 0.9), no absorbing layer, ground albedo 0.3.
 
     >>> plane_parallel_atmosphere(False).bottom_radius_m
@@ -135,6 +135,24 @@ def plane_parallel_single_scattering(atm, w, mu0, views, panels=400):
     ground = np.where(t == 0.0, np.exp(-tau_star / np.abs(mu)) * atm.ground_albedo[w] / np.pi * mu0
                       * np.exp(-tau_star / mu0), 0.0)
     return integrand @ dz + ground
+
+
+def curvature_error(atm, sun_zeniths_deg=(30.0, 70.0)):
+    """The relative difference (suns, W, views) between ``atm``'s single scattering on its sphere
+    (reference/single.py) and over a plane-parallel slab (:func:`plane_parallel_single_scattering`), on the rays of
+    :func:`ground_and_top_views` (ground and top alternating), the sun ``sun_zeniths_deg`` from the zenith: how far
+    the planet's curvature moves its sky from DISORT's, which holds for a slab, in the first order. Earth's 60 km
+    Rayleigh layer reads 0.84% at most on a planet of 1e8 m, 0.08% on one of 1e9 m.
+    """
+    from .single_scattering import reference_single_scattering
+    views, cams, dirs = ground_and_top_views(atm)
+    errors = []
+    for zenith in np.radians(np.asarray(sun_zeniths_deg, dtype=float)):
+        sun = np.array([np.sin(zenith), 0.0, np.cos(zenith)])
+        sphere = reference_single_scattering(atm, cams, dirs, np.tile(sun, (len(cams), 1)))
+        errors.append([sphere[:, w] / plane_parallel_single_scattering(atm, w, sun[2], views) - 1.0
+                       for w in range(atm.n_wavelengths)])
+    return np.array(errors)
 
 
 def disort_mean_radiance(atm, w, mu0, heights_m, n_quad=64, layers=120):
