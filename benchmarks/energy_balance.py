@@ -20,8 +20,8 @@ from the tables (``planetviz.validation.flux_balance``); it prints their sum ove
 
 ``--random SEED ...`` does the same balance for random legal atmospheres (``planetviz.validation.random_atmosphere``)
 in their plane-parallel limit (``validation.disort.plane_parallel_twin``: a slab at most 20 km thick on a planet of
-1e9 m, where nothing leaves through the sides) made conservative over a black ground, the sun 60 and 20 deg up: the orders of scattering of
-any atmosphere the format allows against a conservation law, with no reference.
+1e9 m, where nothing leaves through the sides) made conservative over a black ground, the sun 60 and 20 deg up:
+the orders of scattering of any atmosphere the format allows against a conservation law, with no reference.
 """
 import argparse
 import time

@@ -20,9 +20,10 @@ sun-zenith axis as it is; the tables are then computed afresh, not read from the
 
 ``--random``: instead, random legal atmospheres (planetviz.validation.random_atmosphere, any seed of either split)
 in their plane-parallel limit (``plane_parallel_twin``: on a planet of 1e9 m, at most 20 km thick with every
-optical depth kept, without their absorbing layers), the same views. Printed per atmosphere: the multiple-scattering tables' nu and mu_s
-texels (``precompute.sizes_for``), the precompute's time (no cache), the RMS, 95th percentile and largest
-relative difference over rays and wavelengths, and the mean per wavelength at the ground and at the top.
+optical depth kept, without their absorbing layers), the same views. Printed per atmosphere: the
+multiple-scattering tables' nu and mu_s texels (``precompute.sizes_for``), the precompute's time (no cache), the
+RMS, 95th percentile and largest relative difference over rays and wavelengths, and the mean per wavelength at the
+ground and at the top.
 ``--thick-samples`` sets precompute.THICK_MULTIPLE_SAMPLES for this run (the nodes per side along the
 multiple-scattering tables' rays in optically thick atmospheres). DISORT is exact here within its own 0.3% (64
 streams, ../shared/notes/disort.md), so every figure is resolved.

@@ -38,11 +38,11 @@ def test_a_large_planets_sky_meets_the_daylight_target_against_disort(aerosol):
     # albedo 0.3), alone and with an absorbing aerosol of g1 = 0.85 (validation.disort.plane_parallel_atmosphere), on
     # a planet of 1e9 m, against DISORT (PythonicDISORT, 64 streams), which is exact here within its own 0.3% (64
     # against 128 streams, ../shared/notes/disort.md) and the planet's curvature (validation.disort.curvature_error:
-    # 0.08% at 1e9 m for these views): at the ground looking up and at the top looking down, view zenith 20, 55 and 78 deg x 3
-    # azimuths, the sun 30 and 70 deg from the zenith, 3 wavelengths. With the view-zenith axis on the planet's own
-    # geometry (no distance_warp) the Rayleigh sky from the ground reads 2.8% RMS off and from the top 4.5%; with
-    # the particles' orders above the first stored over their lobe alone (multiple.forward_factor with s = 1) the
-    # aerosol's sky from the ground reads 1.7% RMS, 5.2% at most.
+    # 0.08% at 1e9 m for these views): at the ground looking up and at the top looking down, view zenith 20, 55 and
+    # 78 deg x 3 azimuths, the sun 30 and 70 deg from the zenith, 3 wavelengths. With the view-zenith axis on the
+    # planet's own geometry (no distance_warp) the Rayleigh sky from the ground reads 2.8% RMS off and from the top
+    # 4.5%; with the particles' orders above the first stored over their lobe alone (multiple.forward_factor with
+    # s = 1) the aerosol's sky from the ground reads 1.7% RMS, 5.2% at most.
     from planetviz.validation.disort import plane_parallel_atmosphere
     atm = plane_parallel_atmosphere(aerosol, 1e9)
     errors = np.abs(_against_disort(atm)[0])

@@ -101,11 +101,11 @@ THICK_MULTIPLE_ROWS = 16
 #: An optically thick atmosphere's scattering density is integrated along the multiple-scattering tables' rays with
 #: at least this many nodes per side of the closest approach (``sizes_for``; on every segment but the first half as
 #: many, ``nodes.split_ray_nodes``): the rays of the tables' texels and, in the density's iteration, the quadrature
-#: directions. With the standard level's 4, random atmospheres' plane-parallel twins against DISORT read 5.38% RMS
-#: (100088: its particles within the lowest 6 km of a 1000 km shell), 1.97% (random atmosphere 1, optical depth 7.1)
-#: and 0.90% (100807); with 8, 0.75%, 1.32% and 0.37% (``python benchmarks/tables_disort.py --random``); made
-#: conservative over a black ground, random atmospheres 1 and 100010 sent out 1.029 and 1.025 times the sun's flux
-#: at 440 nm, 0.997 and 0.999 with 8 (``python benchmarks/energy_balance.py --random``).
+#: directions. With the standard level's 4, random atmospheres' plane-parallel twins against DISORT read 5.28% RMS
+#: (100088: its particles within the lowest 0.6% of the shell), 1.61% (random atmosphere 1, optical depth 7.1)
+#: and 0.90% (100807); with 8, 0.70%, 0.59% and 0.36% (``python benchmarks/tables_disort.py --random``); made
+#: conservative over a black ground, random atmosphere 100010 sent out 1.025 times the sun's flux at 440 nm, 0.999
+#: with 8 (``python benchmarks/energy_balance.py --random``).
 THICK_MULTIPLE_SAMPLES = 8
 #: Under a forward lobe above this g, where the particles hold most of the scattering, the multiple-scattering tables
 #: have the ``lobe_nu`` and ``lobe_mu_s`` texels (``sizes_for``): random atmosphere 4's plane-parallel twin (one lobe

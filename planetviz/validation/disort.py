@@ -12,8 +12,8 @@ from ..model.presets import load_atmosphere
 
 def plane_parallel_atmosphere(aerosol: bool, radius_m: float = 1.0e9):
     """A planet of radius ``radius_m`` (at the format's largest, 1e9 m, plane-parallel to 1e-3 over a 60 km
-    atmosphere: :func:`curvature_error`), Earth's Rayleigh layer, optionally an absorbing aerosol with a peaked phase function (g1 = 0.85,
-    g2 = -0.1, alpha = 0.9), no absorbing layer, ground albedo 0.3.
+    atmosphere: :func:`curvature_error`), Earth's Rayleigh layer, optionally an absorbing aerosol with a peaked
+    phase function (g1 = 0.85, g2 = -0.1, alpha = 0.9), no absorbing layer, ground albedo 0.3.
 
     >>> plane_parallel_atmosphere(False).bottom_radius_m
     1000000000.0
@@ -115,8 +115,7 @@ def plane_parallel_single_scattering(atm, w, mu0, views, panels=400):
     if not np.all(((t == 1.0) & (mu < 0.0)) | ((t == 0.0) & (mu > 0.0))):
         raise ValueError("plane_parallel_single_scattering: views must be at the ground looking up (t = 1, mu < 0) "
                          "or at the top looking down (t = 0, mu > 0)")
-    x = np.linspace(0.0, 1.0, panels + 1)
-    edges = atm.thickness_m * np.expm1(6.0 * x) / np.expm1(6.0)
+    edges = _layer_edges(atm, panels)
     nodes, weights = np.polynomial.legendre.leggauss(8)
     half = 0.5 * np.diff(edges)[:, None]
     z = (0.5 * (edges[1:] + edges[:-1])[:, None] + half * nodes).ravel()
@@ -169,6 +168,12 @@ def disort_mean_radiance(atm, w, mu0, heights_m, n_quad=64, layers=120):
     return 0.25 * np.sum(np.concatenate([weights, weights])[:, None] * u0(tau), axis=0)
 
 
+def _layer_edges(atm, layers):
+    """The altitudes [m] of the edges of ``layers`` layers from the ground to the top, each thicker than the one
+    below by a constant factor (2 m at the ground and 2 km at the top for a 60 km atmosphere and 120 layers)."""
+    return atm.thickness_m * np.expm1(6.0 * np.linspace(0.0, 1.0, layers + 1)) / np.expm1(6.0)
+
+
 def _column(ext, profile, low, high):
     """The optical depth of an exponential component between altitudes low and high [m]."""
     h = profile.scale_height_m
@@ -186,9 +191,7 @@ def _solve(atm, w, mu0, n_quad, layers):
     """PythonicDISORT's (u, u0, cumulative optical depth of the layers, whether delta-M and NT were used) for the
     layers of :func:`disort_radiance`."""
     from PythonicDISORT import pydisort
-    z_top = atm.thickness_m
-    x = np.linspace(0.0, 1.0, layers + 1)
-    edges = z_top * np.expm1(6.0 * x) / np.expm1(6.0)
+    edges = _layer_edges(atm, layers)
     top, bottom = edges[::-1][:-1], edges[::-1][1:]                       # layers from the top down
     tau_r = _column(atm.rayleigh.scattering_m[w], atm.rayleigh.profile, bottom, top)
     tau_ms = _column(atm.mie.scattering_m[w], atm.mie.profile, bottom, top)
