@@ -548,3 +548,64 @@ def test_the_orders_stop_only_where_their_tail_is_within_the_tolerance(seed):
                       (stopped.multiple_mie, every.multiple_mie)):
         axes = tuple(range(want.ndim - 1))
         assert np.all(np.max(np.abs(got - want), axes) <= sizes.tolerance * np.max(want, axes))
+
+
+
+def test_the_cubic_through_four_rows_is_exact_for_a_cubic_and_a_linear_read_is_not():
+    # sampling.cubic_rows is the Lagrange cubic through the four texel centres around a read: any cubic in the
+    # texel index is read exactly, inside and in the first and last intervals (where the four rows shift inside
+    # the axis), to float64 rounding; the linear read of the same cubic is off by about h^2 f'' / 8 between rows
+    # (here up to 0.009). multiple.refined_rows puts the cubic's midpoints between a density's rows: a density
+    # cubic along r is refined exactly, so its linear read on the refined rows is off by a quarter of the linear
+    # read's error on its own rows.
+    from planetviz.tables.multiple import refined_rows
+    from planetviz.tables.sampling import cubic_rows, texel_axis
+    n = 16
+    u = np.concatenate([np.linspace(0.0, 1.0, 101), [0.5 / n, 1.0 - 0.5 / n]])
+    x = np.clip(u * n - 0.5, 0.0, n - 1.0)
+    f = lambda k: 1.0 + 0.02 * k + 0.03 * k ** 2 - 0.0015 * k ** 3                 # 1 to 3 on the rows
+    assert np.max(np.abs(sum(w * f(k) for k, w in cubic_rows(u, n)) - f(x))) < 1e-12
+    i0, i1, t = texel_axis(u, n)
+    linear = np.max(np.abs((1.0 - t) * f(i0) + t * f(i1) - f(x)))
+    assert linear > 1e-3
+    with pytest.raises(ValueError, match="at least 4 texels"):
+        cubic_rows(u, 3)
+    J = np.stack([f(np.arange(n)), 2.0 * f(np.arange(n))], -1)                        # (rows, channels)
+    fine = refined_rows(J, 2 * n - 1)
+    assert np.allclose(fine, np.stack([f(np.arange(2 * n - 1) / 2.0), 2.0 * f(np.arange(2 * n - 1) / 2.0)], -1),
+                       rtol=1e-12)
+    assert refined_rows(J, n) is J
+    i0, i1, t = texel_axis((2.0 * x + 0.5) / (2 * n - 1), 2 * n - 1)       # the same r, read on the refined rows
+    on_fine = np.max(np.abs((1.0 - t) * fine[i0, 0] + t * fine[i1, 0] - f(x)))
+    assert on_fine < 0.3 * linear
+    # the refined rows lie on the density's r axis: read through a ScatteringStencil of the refined shape (as the
+    # stage reads them), the value at any r is the cubic's within the linear error over half the spacing,
+    # max |f''| (1/2)^2 / 8 = 0.075 / 32 (f'' = 0.06 - 0.009 k; float32 rounding aside)
+    from planetviz.tables.lookup import ScatteringStencil
+    from planetviz.tables.parameterization import density_uvwz_from_r_mu_mu_s_nu
+    tables = precompute(load_atmosphere("earth"), QUALITY["draft"])
+    rng = np.random.default_rng(3)
+    r = tables.bottom + rng.uniform(0.0, 1.0, 200) * (tables.top - tables.bottom)
+    mu, mu_s = rng.uniform(-1.0, 1.0, 200), rng.uniform(-0.2, 1.0, 200)
+    nu = mu * mu_s + rng.uniform(-1.0, 1.0, 200) * np.sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s))
+    shape = (n, 8, 4, 8)
+    coarse = np.broadcast_to(f(np.arange(n))[:, None, None, None, None], shape + (1,))
+    table = refined_rows(coarse, 2 * n - 1).astype(np.float32)
+    stencil = ScatteringStencil(tables, table.shape[:4], r, mu, mu_s, nu, np.zeros(200, bool),
+                                mapping=density_uvwz_from_r_mu_mu_s_nu)
+    u_r = density_uvwz_from_r_mu_mu_s_nu(r, mu, mu_s, nu, None, tables.bottom, tables.top, (4, 8, 8, n),
+                                         tables.r_axis)[3]
+    want = f(np.clip(u_r * n - 0.5, 0.0, n - 1.0))
+    assert np.max(np.abs(stencil.apply(table)[..., 0] - want)) < 0.075 / 32 + 1e-5
+
+
+def test_only_optically_deep_atmospheres_read_their_density_on_refined_rows():
+    # multiple.density_read_rows: twice the density's rows less one where the largest vertical optical depth exceeds
+    # DEEP_OPTICAL_DEPTH (as DEEP_DENSITY_ROWS), its own rows elsewhere: the presets (at most 4.1) keep their tables.
+    from planetviz.tables.multiple import DEEP_OPTICAL_DEPTH, density_read_rows
+    from planetviz.validation import random_atmosphere
+    for name in ("earth", "mars", "exo-co2-thick"):
+        assert density_read_rows(load_atmosphere(name), (32, 64, 4, 32)) == 32
+    deep = random_atmosphere(942)
+    assert np.max(deep.vertical_optical_depth()) > DEEP_OPTICAL_DEPTH
+    assert density_read_rows(deep, (64, 64, 16, 48)) == 127

@@ -16,6 +16,26 @@ def texel_axis(u, n):
     return np.clip(i0, 0, n - 1), np.clip(i0 + 1, 0, n - 1), f
 
 
+def cubic_rows(u, n):
+    """[(row index, weight)] of the cubic through the four texel centres around texture coordinate u on an axis
+    of n >= 4 texels (Lagrange: exact for a cubic in the texel index, error O(h^4) in the texel spacing h where
+    linear filtering's is O(h^2)); in the axis's first and last intervals the four rows shift inside it, and u is
+    clamped to the outermost centres."""
+    if n < 4:
+        raise ValueError(f"cubic_rows: the axis needs at least 4 texels, got {n}")
+    s = np.clip(np.asarray(u, dtype=float) * n - 0.5, 0.0, n - 1.0)
+    first = np.clip(np.floor(s).astype(np.int64) - 1, 0, n - 4)
+    t = s - first                                     # the position from the first of the four rows, in rows
+    rows = []
+    for j in range(4):
+        w = np.ones_like(t)
+        for m in range(4):
+            if m != j:
+                w = w * (t - m) / (j - m)
+        rows.append((first + j, w))
+    return rows
+
+
 def texture2d(table, u, v):
     """Bilinear lookup of ``table`` (height n_v, width n_u, channels) at (u, v); returns (..., channels)."""
     nv, nu = table.shape[:2]
