@@ -1,7 +1,8 @@
 """Texture sampling as OpenGL does it (GL_LINEAR, CLAMP_TO_EDGE), so NumPy and GLSL read the same values.
 
 A texture coordinate u in [0, 1] over n texels has its texel centres at (i + 1/2) / n; a lookup blends
-the two nearest centres linearly, clamping indices at the edges.
+the two nearest centres linearly, clamping indices at the edges. :func:`cubic_rows` is the precompute's own
+(the cubic through four texels; no shader reads a table so).
 """
 from __future__ import annotations
 
