@@ -1,15 +1,21 @@
 """Test configuration: off-screen rendering through OSMesa (set before VTK is imported), and a table cache
 of the test run's own, so that tests never read or fill the user's ~/.cache/planetviz; the run's worker
 processes (pytest-xdist, ``-n 2`` in scripts/test.sh) share it, and the process that started them removes it
-when the run ends."""
+when the run ends; one BLAS thread per process (set before NumPy is loaded, inherited by the workers)."""
 import functools
 import os
 import shutil
 import tempfile
 from pathlib import Path
 
-import numpy as np
-import pytest
+#: One OpenBLAS thread per process: with two workers on the two cores, a worker's second BLAS thread waits by
+#: spinning on a core the other worker needs. tests/test_tables_disort.py's large aerosol planet (DISORT's
+#: eigensystems) took 52 s with its default two threads beside a busy core, 31 s with one.
+for _blas_threads in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
+    os.environ.setdefault(_blas_threads, "1")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
 #: True in a worker process of pytest-xdist, which inherits the cache of the process that started it.
