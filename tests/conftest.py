@@ -32,9 +32,8 @@ def pytest_sessionfinish(session, exitstatus):
         shutil.rmtree(TABLE_CACHE, ignore_errors=True)
 
 
-#: The modules whose slow-marked tests take longest (seconds on the 2-core CI machine, scripts/test.sh's slow run):
-#: test_tables_disort about 550, test_reference_slow about 450, test_tables about 220; test_multiple_scattering's
-#: each under 30 s (none among the run's 15 longest), every other module's under 160 in all.
+#: The modules whose slow-marked tests take longest, longest first (their tests' seconds summed, from the slow run of
+#: scripts/test.sh with ``--durations=0`` on the 2-core CI machine); every other module's tests take less in all.
 SLOWEST_MODULES = ("test_tables_disort.py", "test_reference_slow.py", "test_tables.py", "test_multiple_scattering.py")
 
 
