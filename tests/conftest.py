@@ -34,7 +34,8 @@ def pytest_sessionfinish(session, exitstatus):
 
 #: The modules whose slow-marked tests take longest, longest first (their tests' seconds summed, from the slow run of
 #: scripts/test.sh with ``--durations=0`` on the 2-core CI machine); every other module's tests take less in all.
-SLOWEST_MODULES = ("test_tables_disort.py", "test_reference_slow.py", "test_tables.py", "test_multiple_scattering.py")
+SLOWEST_MODULES = ("test_tables_disort.py", "test_reference_slow.py", "test_stability_edges.py", "test_tables.py",
+                   "test_readme.py", "test_multiple_scattering.py")
 
 
 def pytest_collection_modifyitems(config, items):
