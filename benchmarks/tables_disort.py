@@ -4,7 +4,7 @@ planets' errors are resolved to DISORT's own 0.3% (the Monte Carlo reference's n
     python benchmarks/tables_disort.py [--radii 1e8 3e8 1e9] [--quality standard] [--suns 30 50 70]
                                        [--ratio-limit K]
     python benchmarks/tables_disort.py --random SEED [SEED ...] [--quality standard] [--suns 30 70]
-                                       [--thick-samples N]
+                                       [--thick-samples N] [--wavelengths I [I ...]] [--lobe-texels N_NU N_MU_S]
 
 Atmospheres: planetviz.validation.disort.plane_parallel_atmosphere (Earth's Rayleigh layer, 60 km, ground
 albedo 0.3; with and without an absorbing aerosol of g1 = 0.85) on planets of each radius. Rays: at the ground
@@ -24,6 +24,10 @@ optical depth kept, without their absorbing layers), the same views. Printed per
 multiple-scattering tables' nu and mu_s texels (``precompute.sizes_for``), the precompute's time (no cache), the
 RMS, 95th percentile and largest relative difference over rays and wavelengths, and the mean per wavelength at the
 ground and at the top.
+``--wavelengths`` keeps only the wavelengths of those indices (``validation.disort.only_wavelengths``: a channel's
+sky alone, and ``sizes_for``'s rules read on it alone). ``--lobe-texels`` sets the multiple-scattering tables' nu
+and mu_s texels to N_NU and N_MU_S for every atmosphere, whatever ``sizes_for``'s rules say (``4 32``: the
+standard level without them).
 ``--thick-samples`` sets precompute.THICK_MULTIPLE_SAMPLES for this run (the nodes per side along the
 multiple-scattering tables' rays in optically thick atmospheres). DISORT is exact here within its own 0.3% (64
 streams, ../shared/notes/disort.md), so every figure is resolved.
@@ -31,6 +35,7 @@ streams, ../shared/notes/disort.md), so every figure is resolved.
 import argparse
 import importlib
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -38,7 +43,7 @@ from planetviz.tables import QUALITY, TableCache, lookup, parameterization, prec
 from planetviz.tables.evaluator import sky_radiance
 from planetviz.tables.precompute import sizes_for
 from planetviz.validation import random_atmosphere
-from planetviz.validation.disort import (curvature_error, disort_radiance, ground_and_top_views,
+from planetviz.validation.disort import (curvature_error, disort_radiance, ground_and_top_views, only_wavelengths,
                                         plane_parallel_atmosphere, plane_parallel_twin)
 
 
@@ -51,11 +56,17 @@ def main():
     ap.add_argument("--no-view-warp", action="store_true")
     ap.add_argument("--random", type=int, nargs="+", default=None, help="random atmospheres' seeds")
     ap.add_argument("--thick-samples", type=int, default=None, metavar="N")
+    ap.add_argument("--wavelengths", type=int, nargs="+", default=None, metavar="I")
+    ap.add_argument("--lobe-texels", type=int, nargs=2, default=None, metavar=("N_NU", "N_MU_S"))
     args = ap.parse_args()
     if args.thick_samples is not None:
         importlib.import_module("planetviz.tables.precompute").THICK_MULTIPLE_SAMPLES = args.thick_samples
     if args.random:
-        return random_twins(args.random, QUALITY[args.quality], args.suns)
+        sizes = QUALITY[args.quality]
+        if args.lobe_texels:
+            n_nu, n_mu_s = args.lobe_texels
+            sizes = replace(sizes, multiple=(n_nu, n_mu_s) + sizes.multiple[2:], lobe_nu=n_nu, lobe_mu_s=n_mu_s)
+        return random_twins(args.random, sizes, args.suns, args.wavelengths)
     cache = TableCache()
     if args.ratio_limit is not None:
         parameterization.RATIO_LIMIT = args.ratio_limit
@@ -92,13 +103,16 @@ def main():
                       f"{100 * c[np.argmax(np.abs(c))]:+.2f}% |", flush=True)
 
 
-def random_twins(seeds, sizes, suns):
-    """The tables of each random atmosphere's plane-parallel twin against DISORT: one row per atmosphere."""
+def random_twins(seeds, sizes, suns, wavelengths=None):
+    """The tables of each random atmosphere's plane-parallel twin (with only the ``wavelengths`` of those indices,
+    None: all) against DISORT: one row per atmosphere."""
     print("| atmosphere | nu, mu_s texels | precompute [s] | values | RMS | p95 | largest | mean per wavelength, ground "
           "| at the top |")
     print("|---|---|---|---|---|---|---|---|---|")
     for seed in seeds:
         atm = plane_parallel_twin(random_atmosphere(seed))
+        if wavelengths:
+            atm = only_wavelengths(atm, wavelengths)
         start = time.perf_counter()
         tables = precompute(atm, sizes)
         seconds = time.perf_counter() - start
@@ -113,7 +127,8 @@ def random_twins(seeds, sizes, suns):
         e = np.abs(rel).ravel()
         n_nu, n_mu_s = sizes_for(atm, sizes).multiple[:2]
         mean = lambda part: " / ".join(f"{100 * m:+.1f}%" for m in part.mean(axis=(0, 2)))
-        print(f"| random-{seed} | {n_nu}, {n_mu_s} | {seconds:.0f} | {e.size} | {100 * np.sqrt(np.mean(e ** 2)):.2f}% | "
+        channels = f" at {', '.join(f'{nm:g}' for nm in atm.wavelengths_nm)} nm" if wavelengths else ""
+        print(f"| random-{seed}{channels} | {n_nu}, {n_mu_s} | {seconds:.0f} | {e.size} | {100 * np.sqrt(np.mean(e ** 2)):.2f}% | "
               f"{100 * np.percentile(e, 95):.2f}% | {100 * rel.ravel()[np.argmax(e)]:+.2f}% | {mean(rel[..., 0::2])} | "
               f"{mean(rel[..., 1::2])} |", flush=True)
 

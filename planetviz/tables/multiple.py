@@ -63,7 +63,7 @@ from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_botto
                                distance_to_top_atmosphere_boundary, nu_from_x_nu, ray_intersects_ground,
                                r_mu_s_from_irradiance_uv)
 from .sampling import cubic_rows
-from .validated import particle_scattering_share
+from .validated import THICK_SCATTERING_DEPTH, particle_scattering_share, scattering_depth
 from ..model.optics.phase import PENNDORF_A, double_henyey_greenstein, henyey_greenstein
 
 #: In optically thick atmospheres (vertical optical depth above 1 at some wavelength) the scattering density is
@@ -378,6 +378,15 @@ def forward_factor(atm, nu):
     share = particle_scattering_share(atm)
     lobe = double_henyey_greenstein(np.asarray(nu, dtype=float)[..., None], g1 * g1, g2 * g2, alpha)
     return share * lobe + (1.0 - share) / (4.0 * np.pi)
+
+
+def thick_forward_range(atm) -> float:
+    """The largest range F(1) / F(-1) of ``forward_factor`` (dimensionless, 1 for a broad F) at a wavelength where
+    the whole vertical scattering optical depth exceeds ``validated.THICK_SCATTERING_DEPTH``; 1 where it is less
+    everywhere. There the light is broad, and the particles' part, stored divided by F, varies across the nu axis
+    about as much as F does (``precompute.sizes_for``)."""
+    ratio = forward_factor(atm, 1.0) / forward_factor(atm, -1.0)
+    return float(np.max(np.where(scattering_depth(atm) > THICK_SCATTERING_DEPTH, ratio, 1.0), initial=1.0))
 
 
 def _view_vectors(mu, mu_s, nu):

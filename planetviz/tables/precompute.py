@@ -32,7 +32,7 @@ import numpy as np
 
 from .cache import parameters_hash, stage_parameters
 from .lookup import SMALLEST, get_transmittance, get_transmittance_to_sun, ray_opacity
-from .multiple import multiple_scattering
+from .multiple import multiple_scattering, thick_forward_range
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, altitude, integration_grid, is_optically_thick, ray_nodes,
                     scattering_share, texel_centres)
 from .parameterization import distance_to_top_atmosphere_boundary, r_axis, r_mu_from_transmittance_uv
@@ -119,6 +119,16 @@ LOBE_TEXELS_G = 0.6
 #: 2.4) read 3.1% RMS off DISORT at 4 nu texels, 0.63% at 16; random atmosphere 160's lobes of g = 0.44 under an
 #: optical depth of 2-4 read 0.37% at 4 (``python benchmarks/tables_disort.py --random``).
 THICK_LOBE_TEXELS_G = 0.5
+#: The same where the whole vertical scattering optical depth exceeds ``validated.THICK_SCATTERING_DEPTH`` and the
+#: particles' forward factor varies by more than this ratio, F(1) / F(-1) (``multiple.thick_forward_range``),
+#: whatever their share and depth: the light is broad, and their part stored divided by F varies as 1 / F between
+#: 4 nu texels. One channel of tuning atmospheres' plane-parallel twins against DISORT (standard, 4 / 32 nu / mu_s
+#: texels against 16 / 32): random-809 at 440 nm (F's range 5.7) 3.61% / 0.46% RMS, random-195 at 440 nm (13.6)
+#: 2.13% / 1.26%, random-473 at 550 nm (13.2) 1.59% / 1.09%, random-40 at 550 and 440 nm (2.8, 2.2) 1.05% / 0.27%
+#: and 1.09% / 0.38%, random-328 at 550 nm (1.8) 2.11% / 0.37%; where F varies less more texels do not help:
+#: random-410 at 440 nm (1.33) 0.41% / 0.56%, random-328 at 680 nm (1.35) 0.83% at 4 / 32. 1.5 lies between
+#: (docs/tables.md, "Quality levels").
+THICK_LOBE_TEXELS_RANGE = 1.5
 
 
 def sizes_for(atm, sizes: TableSizes) -> TableSizes:
@@ -129,8 +139,9 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
        read 2.2% RMS off the reference at standard (up to 5.4% low at 440 nm, where the light changes with the
        altitude's optical depth); with 16, 1.5% (tests/test_tables.py's rays, the reference's noise 0.9%); and the
        scattering density is integrated with at least ``THICK_MULTIPLE_SAMPLES`` nodes per side;
-    2. under a forward lobe (``validated.strongest_forward_lobe`` above ``LOBE_TEXELS_G``, or
-       ``validated.thick_forward_lobe`` above ``THICK_LOBE_TEXELS_G``) the multiple-scattering tables have at least
+    2. under a forward lobe (``validated.strongest_forward_lobe`` above ``LOBE_TEXELS_G``,
+       ``validated.thick_forward_lobe`` above ``THICK_LOBE_TEXELS_G``, or ``multiple.thick_forward_range`` above
+       ``THICK_LOBE_TEXELS_RANGE``) the multiple-scattering tables have at least
        ``sizes.lobe_nu`` nu texels: their particles' part is stored over
        the twice-scattered lobe F(nu), which varies a hundredfold across 4 texels, and the diffuse light seen
        along long rays varies as 1 / F between them; and at least ``sizes.lobe_mu_s`` mu_s texels: with 32, Mars's
@@ -141,7 +152,8 @@ def sizes_for(atm, sizes: TableSizes) -> TableSizes:
     samples = sizes.multiple_samples
     if is_optically_thick(atm):
         n_r, samples = max(n_r, THICK_MULTIPLE_ROWS), max(samples, THICK_MULTIPLE_SAMPLES)
-    if strongest_forward_lobe(atm) > LOBE_TEXELS_G or thick_forward_lobe(atm) > THICK_LOBE_TEXELS_G:
+    if (strongest_forward_lobe(atm) > LOBE_TEXELS_G or thick_forward_lobe(atm) > THICK_LOBE_TEXELS_G
+            or thick_forward_range(atm) > THICK_LOBE_TEXELS_RANGE):
         n_nu, n_mu_s = max(n_nu, sizes.lobe_nu), max(n_mu_s, sizes.lobe_mu_s)
     return replace(sizes, multiple=(n_nu, n_mu_s, n_mu, n_r), multiple_samples=samples)
 

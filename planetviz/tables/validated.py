@@ -33,6 +33,10 @@ FORWARD_LOBE_G = 0.7
 #: so that their lobe shapes the light of the orders above the first even where molecules hold most of the
 #: scattering (``thick_forward_lobe``).
 THICK_PARTICLE_DEPTH = 1.0
+#: The whole vertical scattering optical depth (molecules and particles) above which most light is scattered more
+#: than once, so that the angular shape of the light the particles scatter again decides the orders above the first
+#: even where they hold a small share of it (``multiple.thick_forward_range``).
+THICK_SCATTERING_DEPTH = 1.0
 
 
 def largest_vertical_optical_depth(atm) -> float:
@@ -54,6 +58,12 @@ def particle_scattering_share(atm) -> np.ndarray:
     """(W,) the particles' share of the vertical scattering optical depth per wavelength."""
     rayleigh, mie = _vertical_scattering(atm)
     return mie / np.maximum(rayleigh + mie, 1e-300)
+
+
+def scattering_depth(atm) -> np.ndarray:
+    """(W,) the whole vertical scattering optical depth per wavelength, molecules and particles [dimensionless]."""
+    rayleigh, mie = _vertical_scattering(atm)
+    return rayleigh + mie
 
 
 def particle_scattering_depth(atm) -> np.ndarray:

@@ -59,6 +59,18 @@ def plane_parallel_twin(atm, radius_m: float = 1.0e9):
     return type(atm).from_dict(d)
 
 
+def only_wavelengths(atm, keep):
+    """The atmosphere ``atm`` with only its wavelengths of index in ``keep`` (a sequence of ints): one channel's
+    sky, solved on its own, as with the others (the wavelengths scatter independently)."""
+    d = atm.to_dict()
+    pick = lambda values: [values[w] for w in keep]
+    d.update(wavelengths_nm=pick(d["wavelengths_nm"]), ground_albedo=pick(d["ground_albedo"]))
+    d["rayleigh"] = dict(d["rayleigh"], scattering_m=pick(d["rayleigh"]["scattering_m"]))
+    d["mie"] = dict(d["mie"], scattering_m=pick(d["mie"]["scattering_m"]), extinction_m=pick(d["mie"]["extinction_m"]),
+                    phase={k: pick(v) for k, v in d["mie"]["phase"].items()})
+    return type(atm).from_dict(d)
+
+
 def _shrunk(profile: dict, k: float) -> dict:
     """A profile's dictionary with its lengths (the fields named ``*_m``) divided by k."""
     return {key: (np.divide(value, k).tolist() if key.endswith("_m") else value) for key, value in profile.items()}
