@@ -5,6 +5,7 @@ planets' errors are resolved to DISORT's own 0.3% (the Monte Carlo reference's n
                                        [--ratio-limit K]
     python benchmarks/tables_disort.py --random SEED [SEED ...] [--quality standard] [--suns 30 70]
                                        [--thick-samples N] [--wavelengths I [I ...]] [--lobe-texels N_NU N_MU_S]
+                                       [--streams 64]
 
 Atmospheres: planetviz.validation.disort.plane_parallel_atmosphere (Earth's Rayleigh layer, 60 km, ground
 albedo 0.3; with and without an absorbing aerosol of g1 = 0.85) on planets of each radius. Rays: at the ground
@@ -27,7 +28,9 @@ ground and at the top.
 ``--wavelengths`` keeps only the wavelengths of those indices (``validation.disort.only_wavelengths``: a channel's
 sky alone, and ``sizes_for``'s rules read on it alone). ``--lobe-texels`` sets the multiple-scattering tables' nu
 and mu_s texels to N_NU and N_MU_S for every atmosphere, whatever ``sizes_for``'s rules say (``4 32``: the
-standard level without them).
+standard level without them). ``--streams``: DISORT's streams (64: within 0.3% of 128 for the atmospheres of
+../shared/notes/disort.md; under a sharp lobe (g near 0.9) 10 deg from the sun 64 streams read up to 9% high,
+where 128 are within 0.1% of 192).
 ``--thick-samples`` sets precompute.THICK_MULTIPLE_SAMPLES for this run (the nodes per side along the
 multiple-scattering tables' rays in optically thick atmospheres). DISORT is exact here within its own 0.3% (64
 streams, ../shared/notes/disort.md), so every figure is resolved.
@@ -58,6 +61,7 @@ def main():
     ap.add_argument("--thick-samples", type=int, default=None, metavar="N")
     ap.add_argument("--wavelengths", type=int, nargs="+", default=None, metavar="I")
     ap.add_argument("--lobe-texels", type=int, nargs=2, default=None, metavar=("N_NU", "N_MU_S"))
+    ap.add_argument("--streams", type=int, default=64)
     args = ap.parse_args()
     if args.thick_samples is not None:
         importlib.import_module("planetviz.tables.precompute").THICK_MULTIPLE_SAMPLES = args.thick_samples
@@ -66,7 +70,7 @@ def main():
         if args.lobe_texels:
             n_nu, n_mu_s = args.lobe_texels
             sizes = replace(sizes, multiple=(n_nu, n_mu_s) + sizes.multiple[2:], lobe_nu=n_nu, lobe_mu_s=n_mu_s)
-        return random_twins(args.random, sizes, args.suns, args.wavelengths)
+        return random_twins(args.random, sizes, args.suns, args.wavelengths, args.streams)
     cache = TableCache()
     if args.ratio_limit is not None:
         parameterization.RATIO_LIMIT = args.ratio_limit
@@ -103,9 +107,9 @@ def main():
                       f"{100 * c[np.argmax(np.abs(c))]:+.2f}% |", flush=True)
 
 
-def random_twins(seeds, sizes, suns, wavelengths=None):
+def random_twins(seeds, sizes, suns, wavelengths=None, streams=64):
     """The tables of each random atmosphere's plane-parallel twin (with only the ``wavelengths`` of those indices,
-    None: all) against DISORT: one row per atmosphere."""
+    None: all) against DISORT with ``streams`` streams: one row per atmosphere."""
     print("| atmosphere | nu, mu_s texels | precompute [s] | values | RMS | p95 | largest | mean per wavelength, ground "
           "| at the top |")
     print("|---|---|---|---|---|---|---|---|---|")
@@ -121,7 +125,7 @@ def random_twins(seeds, sizes, suns, wavelengths=None):
         for zenith in suns:
             theta0 = np.radians(zenith)
             got, _ = sky_radiance(tables, atm, cams, dirs, [np.sin(theta0), 0.0, np.cos(theta0)])
-            rel.append([got[:, w] / disort_radiance(atm, w, np.cos(theta0), views) - 1.0
+            rel.append([got[:, w] / disort_radiance(atm, w, np.cos(theta0), views, n_quad=streams) - 1.0
                         for w in range(atm.n_wavelengths)])
         rel = np.array(rel)
         e = np.abs(rel).ravel()
