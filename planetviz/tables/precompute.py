@@ -123,9 +123,10 @@ THICK_LOBE_TEXELS_G = 0.5
 #: particles' forward factor varies by more than this ratio, F(1) / F(-1) (``multiple.thick_forward_range``),
 #: whatever their share and depth: the light is broad, and their part stored divided by F varies as 1 / F between
 #: 4 nu texels. One channel of tuning atmospheres' plane-parallel twins against DISORT (standard, 4 / 32 nu / mu_s
-#: texels against 16 / 32): random-809 at 440 nm (F's range 5.7) 3.61% / 0.46% RMS, random-195 at 440 nm (13.6)
-#: 2.13% / 1.26%, random-473 at 550 nm (13.2) 1.59% / 1.09%, random-40 at 550 and 440 nm (2.8, 2.2) 1.05% / 0.27%
-#: and 1.09% / 0.38%, random-328 at 550 nm (1.8) 2.11% / 0.37%; where F varies less more texels do not help:
+#: texels against 16 / 32): random-809 at 440 nm (F's range 5.7) 3.61% / 0.46% RMS, random-40 at 550 and 440 nm
+#: (2.8, 2.2) 1.05% / 0.27% and 1.09% / 0.38%, random-328 at 550 nm (1.8) 2.11% / 0.37%; random-195 at 440 nm
+#: (13.6) and random-473 at 550 nm (13.2) 1.73% / 0.54% and 1.17% / 0.48% (16 / 48, DISORT with 128 streams, which
+#: their sharp lobes need); where F varies less more texels do not help:
 #: random-410 at 440 nm (1.33) 0.41% / 0.56%, random-328 at 680 nm (1.35) 0.83% at 4 / 32. 1.5 lies between
 #: (docs/tables.md, "Quality levels").
 THICK_LOBE_TEXELS_RANGE = 1.5
