@@ -1,9 +1,12 @@
 """The desktop app: the real window under Xvfb driven with mouse and key events, and the off-screen command line."""
+import ctypes
+import ctypes.util
 import json
 import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -28,9 +31,28 @@ def xvfb():
     with os.fdopen(read_end) as pipe:
         display = pipe.readline().strip()
     assert display, f"Xvfb did not start (exit status {proc.poll()})"
+    assert _accepts_clients(f":{display}"), f"Xvfb's display :{display} refuses clients for 10 s"
     yield f":{display}"
     proc.terminate()
     proc.wait(10)
+
+
+def _accepts_clients(display, seconds=10.0):
+    """Whether an X client can open ``display`` within ``seconds`` (libX11's XOpenDisplay): where it cannot, VTK's
+    render window factory falls back to EGL without saying so, and the window test would read that instead."""
+    x11 = ctypes.CDLL(ctypes.util.find_library("X11"))
+    x11.XOpenDisplay.restype = ctypes.c_void_p
+    x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
+    x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    deadline = time.monotonic() + seconds
+    while True:
+        handle = x11.XOpenDisplay(display.encode())
+        if handle:
+            x11.XCloseDisplay(handle)
+            return True
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.1)
 
 
 def test_the_window_opens_responds_to_widgets_and_refuses_invalid_values(xvfb, tmp_path):
