@@ -609,3 +609,32 @@ def test_only_optically_deep_atmospheres_read_their_density_on_refined_rows():
     deep = random_atmosphere(942)
     assert np.max(deep.vertical_optical_depth()) > DEEP_OPTICAL_DEPTH
     assert density_read_rows(deep, (64, 64, 16, 48)) == 127
+
+
+@pytest.mark.parametrize("n_nu", [1, 4])
+def test_the_ray_stencil_reads_what_the_sparse_stencil_reads(n_nu):
+    # lookup.RayStencil (per (r, mu) value: the four rows blended once, then two entries per point) against
+    # ScatteringStencil (a sparse matrix of eight texels per point), the same reads in another order: at rays'
+    # nodes (r, mu shared by every (mu_s, nu) of a ray), point by point and summed along the rays, on a table with
+    # exact zeros (geometric_blend's floors). Both sum float32 products of weights <= 1 of values <= 3 in another
+    # order: within a few float32 ulps of the values, 1e-5 relative.
+    from planetviz.tables.lookup import RayStencil, ScatteringStencil
+    from planetviz.tables.parameterization import density_uvwz_from_r_mu_mu_s_nu
+    tables = precompute(load_atmosphere("earth"), QUALITY["draft"])
+    rng = np.random.default_rng(11)
+    shape = (8, 16, n_nu, 12)
+    table = (rng.uniform(0.5, 3.0, shape + (3,)) * (rng.uniform(size=shape + (1,)) > 0.1)).astype(np.float32)
+    rays, texels, nodes = 7, (3, 5), 6
+    r = tables.bottom + rng.uniform(0.0, 1.0, (rays, 1, 1, nodes)) * (tables.top - tables.bottom)
+    mu = rng.uniform(-1.0, 1.0, (rays, 1, 1, nodes))
+    mu_s = rng.uniform(-0.4, 1.0, (rays,) + texels + (nodes,))
+    nu = mu * mu_s + rng.uniform(-1.0, 1.0, (rays,) + texels + (1,)) * np.sqrt((1.0 - mu * mu) * (1.0 - mu_s ** 2))
+    ground = np.zeros((rays, 1, 1, 1), bool)
+    along = rng.uniform(0.0, 1.0, (rays, 1, 1, nodes, 3)).astype(np.float32)
+    args = (tables, shape, r, mu, mu_s, nu, ground)
+    sparse = ScatteringStencil(*args, mapping=density_uvwz_from_r_mu_mu_s_nu)
+    per_ray = RayStencil(*args)
+    assert per_ray.shape == (rays,) + texels + (nodes,)
+    for kwargs in ({}, {"along": along}):
+        want = sparse.apply(table, **kwargs)
+        assert np.max(np.abs(per_ray.apply(table, **kwargs) - want) / np.maximum(np.abs(want), 1e-3)) < 1e-5

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .parameterization import (distance_coordinate, distance_from_coordinate, distance_to_bottom_atmosphere_boundary,
-                               distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
+from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_coordinate, distance_from_coordinate,
+                               distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
                                ray_intersects_ground, rho_from_x_r, safe_sqrt, scattering_uvwz_from_r_mu_mu_s_nu,
                                texcoord_from_unit_range, transmittance_uv_from_r_mu, VIEW_ANGLE_OFFSET,
                                x_mu_s_from_mu_s, x_r_from_rho)
@@ -292,13 +292,17 @@ class ScatteringStencil:
                     columns[..., c] = (kk * n_mu + jj) * n_x + slot
                     weights[..., c] = wn * wz * wy
                     c += 1
-        matrix = csr_matrix((weights.reshape(-1), columns.reshape(-1),
-                             np.arange(n_points + 1, dtype=index) * per_point), shape=(n_points, n_texels))
         # in chunks of whole rows of the last axis (a ray's nodes when :meth:`apply` sums along it), about
-        # STENCIL_CHUNK points each, so that a chunk's reads and blend stay in the caches
+        # STENCIL_CHUNK points each, so that a chunk's reads and blend stay in the caches; each chunk's matrix
+        # holds views of the columns and weights
         step = max(STENCIL_CHUNK // self.shape[-1], 1) * self.shape[-1] if self.shape else 1
-        self.chunks = [(slice(start, min(start + step, n_points)), matrix[start:start + step])
-                       for start in range(0, n_points, step)]
+        columns, weights = columns.reshape(-1, per_point), weights.reshape(-1, per_point)
+        self.chunks = []
+        for start in range(0, n_points, step):
+            points = slice(start, min(start + step, n_points))
+            starts = np.arange(points.stop - points.start + 1, dtype=index) * per_point
+            self.chunks.append((points, csr_matrix((weights[points].ravel(), columns[points].ravel(), starts),
+                                                   shape=(points.stop - points.start, n_texels), copy=False)))
         self.f = fs.reshape(-1, 1).astype(np.float32)
         self.opacity = None
         if mapping is scattering_uvwz_from_r_mu_mu_s_nu:
@@ -332,8 +336,88 @@ class ScatteringStencil:
         return value.reshape((self.shape if along is None else self.shape[:-1]) + (channels,))
 
 
-#: Points per chunk of :meth:`ScatteringStencil.apply`.
+#: Points per chunk of :meth:`ScatteringStencil.apply` and :meth:`RayStencil.apply`.
 STENCIL_CHUNK = 32768
+
+
+class RayStencil:
+    """:class:`ScatteringStencil`'s lookup, stored per (r, mu) and not per point, for points whose (r, mu, ground)
+    take fewer values than their (mu_s, nu): the nodes along the multiple-scattering tables' rays, where the
+    n_nu n_mu_s texels of a ray (r, mu) share its nodes (r_t, mu_t) and differ only in (mu_s_t, nu). It reads a
+    table that is not divided by the rays' opacity (the scattering density J, whose ``mapping`` is the default).
+    ``mapping``'s u_r and u_mu must follow (r, mu, ground) alone, as both mappings' do.
+
+    :meth:`apply` takes the same steps as :class:`ScatteringStencil`'s in another order:
+
+    1. per (r, mu) value, the four (r, mu) neighbours' rows of the table's mu_s pairs (:func:`mu_s_pairs`),
+       weighted to sum to 1: n_nu (n_mu_s + 1) pairs each;
+    2. per point, that blend's two entries at its nu texels, weighted linearly in u_nu;
+    3. the pair's two mu_s texels blended geometrically (:func:`geometric_blend`).
+
+    It stores 12 bytes per point (where the sparse matrix stores 68: eight column indices and weights) and reads
+    the same values within float32 rounding. The points go in chunks of whole leading indices (whole rays where
+    :meth:`apply` sums along the last axis), about ``STENCIL_CHUNK`` points each (at least one leading index)."""
+
+    def __init__(self, t, shape, r, mu, mu_s, nu, intersects_ground, mapping=density_uvwz_from_r_mu_mu_s_nu):
+        from scipy.sparse import csr_matrix
+        n_r, n_mu, n_nu, n_mu_s = shape
+        self.shape = np.broadcast_shapes(*(np.shape(a) for a in (r, mu, mu_s, nu, intersects_ground)))
+        rows_shape = np.broadcast_shapes(*(np.shape(a) for a in (r, mu, intersects_ground)))
+        rows_shape = (1,) * (len(self.shape) - len(rows_shape)) + rows_shape
+        u_nu, u_mu_s, u_mu, u_r = mapping(r, mu, mu_s, nu, intersects_ground, t.bottom, t.top,
+                                          (n_nu, n_mu_s, n_mu, n_r), t.r_axis)
+        (j0, j1, fy), (k0, k1, fz) = (texel_axis(np.broadcast_to(u, rows_shape), n)
+                                      for u, n in ((u_mu, n_mu), (u_r, n_r)))
+        columns = np.stack([k * n_mu + j for k in (k0, k1) for j in (j0, j1)], -1).reshape(-1)
+        weights = np.stack([wz * wy for wz in (1 - fz, fz) for wy in (1 - fy, fy)], -1).reshape(-1)
+        n_rows = columns.size // 4
+        self.rows = csr_matrix((weights.astype(np.float32), columns.astype(np.int32),
+                                np.arange(n_rows + 1, dtype=np.int32) * 4), shape=(n_rows, n_r * n_mu))
+        # per point: its (r, mu) value's index times the pairs per row, plus its lower nu texel's pair
+        self.n_x, self.nu_step = n_nu * (n_mu_s + 1), (n_mu_s + 1) if n_nu > 1 else 0
+        coord = u_nu * (n_nu - 1)
+        tex_nu = np.clip(np.floor(coord), 0, max(n_nu - 2, 0))
+        pair = np.clip(np.floor(np.asarray(u_mu_s, float) * n_mu_s - 0.5) + 1, 0, n_mu_s)
+        row = np.arange(n_rows).reshape(rows_shape)
+        index = np.int32 if n_rows * self.n_x < 2 ** 31 else np.int64
+        self.entry = np.broadcast_to(row * self.n_x + tex_nu * (n_mu_s + 1) + pair, self.shape).astype(index).ravel()
+        self.lerp = np.broadcast_to(coord - tex_nu, self.shape).astype(np.float32).reshape(-1, 1)
+        self.f = np.broadcast_to(texel_axis(u_mu_s, n_mu_s)[2], self.shape).astype(np.float32).reshape(-1, 1)
+        lead = self.shape[0] if self.shape else 1
+        per_lead = int(np.prod(self.shape[1:], dtype=np.int64))
+        step = max(STENCIL_CHUNK // max(per_lead, 1), 1) if rows_shape[0] == lead else lead
+        rows_per_lead = n_rows // lead if rows_shape[0] == lead else n_rows
+        self.chunks = [(slice(a * per_lead, min(a + step, lead) * per_lead),
+                        slice(a * rows_per_lead, min(a + step, lead) * rows_per_lead) if rows_shape[0] == lead
+                        else slice(0, n_rows)) for a in range(0, lead, step)]
+
+    def apply(self, table, along=None):
+        """As :meth:`ScatteringStencil.apply`: the table at the stencil's points, or with ``along`` their weighted sum
+        along the last axis."""
+        channels = table.shape[-1]
+        pairs = mu_s_pairs(table).reshape(-1, self.n_x * 2 * channels)
+        if along is not None:
+            along = np.broadcast_to(along, self.shape + (channels,))
+        out = []
+        for points, rows in self.chunks:
+            blend = (self.rows[rows] @ pairs).reshape(-1, 2 * channels)                # step 1
+            entry = self.entry[points] - rows.start * self.n_x
+            both = np.take(blend, entry, axis=0)                                         # step 2
+            if self.nu_step:
+                upper = np.take(blend, entry + self.nu_step, axis=0)
+                upper -= both
+                upper *= self.lerp[points]
+                both += upper
+            value = geometric_blend(np.ascontiguousarray(both[:, :channels]),          # step 3
+                                    np.ascontiguousarray(both[:, channels:]), self.f[points])
+            if along is not None:
+                rays = np.unravel_index(np.arange(points.start, points.stop, self.shape[-1]) // self.shape[-1],
+                                        self.shape[:-1])
+                value = np.einsum("rkc,rkc->rc", value.reshape(-1, self.shape[-1], channels), along[rays])
+            out.append(value)
+        value = np.concatenate(out)
+        return value.reshape((self.shape if along is None else self.shape[:-1]) + (channels,))
+
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None, top=None):

@@ -55,8 +55,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .extrapolation import OrderSum
-from .lookup import (EMPTY_RAY_OPACITY, ScatteringStencil, get_irradiance, get_scattering, get_transmittance,
-                     get_transmittance_to_sun, ground_row_factor, ray_opacity)
+from .lookup import (EMPTY_RAY_OPACITY, RayStencil, ScatteringStencil, get_irradiance, get_scattering,
+                     get_transmittance, get_transmittance_to_sun, ground_row_factor, ray_opacity)
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, depth_distance, integration_grid, is_optically_thick,
                     ray_nodes, scattering_grid, split_ray_nodes)
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
@@ -551,6 +551,9 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
 #: the split only where a quarter of the nodes lie before that depth). 18% of Earth's texels' rays are split (38%
 #: reach that depth: splitting them all cost its standard precompute 0.3 s of 3.5).
 SPLIT_OPTICAL_DEPTH, SPLIT_NODE_SHARE = 3.0, 0.5
+#: The texels' rays are prepared in blocks of about this many nodes (``_ray_paths``): the geometry of every node
+#: of every texel at once (float64, several arrays) took most of a lobe-texel precompute's memory.
+RAY_BLOCK_POINTS = 2 ** 22
 
 
 def _ray_paths(tables, atm, size, samples, thick, density_shape):
@@ -573,27 +576,29 @@ def _ray_paths(tables, atm, size, samples, thick, density_shape):
     deep = thick | ((t_plain < t_split[..., None]).sum(-1) < SPLIT_NODE_SHARE * t_plain.shape[-1])
     paths = []
     for long, split in ((False, False), (True, False), (False, True), (True, True)):
-        rays = np.nonzero((long_ray == long) & (deep == split))
-        if rays[0].size == 0:
-            continue
+        every = np.nonzero((long_ray == long) & (deep == split))
         n = samples * (LONG_RAY_NODE_FACTOR if long else 1)
-        rr, mm, gg, dd = (a[rays][:, None, None] for a in (r2, mu2, g2, d2))            # (rays, 1, 1)
-        stencil, node_weight = _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg, dd,
-                                                   n, split, thick)
-        per_opacity = np.concatenate([opacity[rays], opacity[rays]], -1)[:, None, None, None, :]
-        # Where the scattering opacity is below EMPTY_RAY_OPACITY the ray holds no light a table can show
-        # (S < 1e-30 J): its mean is stored as 0. Dividing there (the weights carry the densities, J the
-        # coefficients) overflows float32 and gives inf x 0 = NaN for a component whose coefficient is 0.
-        weight = np.divide(node_weight, per_opacity, out=np.zeros(np.broadcast_shapes(node_weight.shape,
-                                                                                     per_opacity.shape)),
-                           where=per_opacity > EMPTY_RAY_OPACITY)
-        paths.append((rays, stencil, weight.astype(np.float32)))
+        block = max(RAY_BLOCK_POINTS // (mu_s[0, 0].size * 2 * n), 1)
+        for start in range(0, every[0].size, block):
+            rays = tuple(i[start:start + block] for i in every)
+            rr, mm, gg, dd = (a[rays][:, None, None] for a in (r2, mu2, g2, d2))        # (rays, 1, 1)
+            stencil, node_weight = _density_along_rays(tables, atm, density_shape, rr, mm, mu_s[rays], nu[rays], gg,
+                                                       dd, n, split, thick, stencil=RayStencil)
+            per_opacity = np.concatenate([opacity[rays], opacity[rays]], -1)[:, None, None, None, :]
+            # Where the scattering opacity is below EMPTY_RAY_OPACITY the ray holds no light a table can show
+            # (S < 1e-30 J): its mean is stored as 0. Dividing there (the weights carry the densities, J the
+            # coefficients) overflows float32 and gives inf x 0 = NaN for a component whose coefficient is 0.
+            weight = np.divide(node_weight, per_opacity, out=np.zeros(np.broadcast_shapes(node_weight.shape,
+                                                                                         per_opacity.shape)),
+                               where=per_opacity > EMPTY_RAY_OPACITY)
+            paths.append((rays, stencil, weight.astype(np.float32)))
     return paths
 
 
-def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, split, thick):
+def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, split, thick, stencil=ScatteringStencil):
     """The integral int_0^d T(x, x_t) J(x_t) dt along rays (r, mu, mu_s, nu) of length d to the top or the
-    ground, prepared for J's table of ``shape``: (the stencil reading J at the nodes, node weights (..., K, 2W)
+    ground, prepared for J's table of ``shape``: (the ``stencil`` (a class of lookup.py's; :class:`RayStencil`
+    where the rays' texels share their nodes' (r, mu)) reading J at the nodes, node weights (..., K, 2W)
     with the view transmittance and each component's density folded in, against J's 2W channels). r, mu,
     ``ground`` and d broadcast against mu_s and nu; n nodes per side of the closest approach
     (``nodes.ray_nodes``), on segments where ``split`` (``nodes.split_ray_nodes``, five where the atmosphere is
@@ -604,8 +609,8 @@ def _density_along_rays(tables, atm, shape, r, mu, mu_s, nu, ground, d, n, split
     r_t = np.clip(np.sqrt(np.maximum(t * t + 2 * r * mu * t + r * r, 0.0)), tables.bottom, tables.top)
     mu_t = np.clip((r * mu + t) / r_t, -1.0, 1.0)
     mu_s_t = np.clip((r * mu_s[..., None] + t * nu[..., None]) / r_t, -1.0, 1.0)
-    stencil = ScatteringStencil(tables, shape, r_t, mu_t, mu_s_t, nu[..., None], ground[..., None],
-                                mapping=density_uvwz_from_r_mu_mu_s_nu)
+    stencil = stencil(tables, shape, r_t, mu_t, mu_s_t, nu[..., None], ground[..., None],
+                      mapping=density_uvwz_from_r_mu_mu_s_nu)
     path_weight = wt[..., None] * get_transmittance(tables, r, mu, t)
     h_t = r_t - tables.bottom
     node_weight = np.concatenate([path_weight * atm.rayleigh.profile.density(h_t)[..., None],
