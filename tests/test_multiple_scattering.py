@@ -444,7 +444,8 @@ def test_the_phase_kernels_give_the_ground_its_share_of_a_lobe_across_the_horizo
     dirs, weights, ends = lit_band_quadrature(r, mu_s, R, scattering_top(atm), 10, 10)
     mu_j, nu_j = density_grid(mu_s, 64, 8)                                         # (n_mu, n_nu, 1)
     views = _view_vectors(mu_j, mu_s, nu_j)                                        # (n_mu, n_nu, 1, 3)
-    kernel = _mie_kernels(atm, views, dirs, weights, ends, 10, 1)[0][0, 0]       # (n_mu, n_nu, K)
+    kernels, point_kernel = _mie_kernels(atm, views, dirs, weights, ends, 10, 1)
+    kernel = kernels[0][point_kernel[0, 0]]                                        # (n_mu, n_nu, K)
     mu_h = ends[0, 0, 1]
     ground = (kernel * (dirs[0, 0, :, 2] < mu_h)).sum(-1)
     near = np.abs(mu_j[:, 0, 0]) < 0.1

@@ -480,9 +480,10 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
     """Per wavelength, the renormalised kernel of each direction w_k, P_M(v . w_k) + P_M(v . w_k') times its weight
     (w' the mirror image about the sun's plane), or with ``samples`` > 1 its cell's integral of the same by
     :func:`_cells`' sub-samples,
-    (n_r, n_mu_s, n_mu, n_nu, K), float32, for the views (n_mu, n_nu, n_mu_s, 3) at every point (r, mu_s) and the
-    directions ``dirs`` (K, 3) with ``weights`` (K,) (the same at every point), or per point (n_r, n_mu_s, K, 3)
-    and (n_r, n_mu_s, K).
+    for the views (n_mu, n_nu, n_mu_s, 3) at every point (r, mu_s) and the directions ``dirs`` (K, 3) with
+    ``weights`` (K,) (the same at every point), or per point (n_r, n_mu_s, K, 3) and (n_r, n_mu_s, K). Returns
+    (the kernels, one per wavelength, each (U, n_mu, n_nu, K) float32, the same array for wavelengths of the same
+    phase function; the kernel of each point, (n_r, n_mu_s) indices into U).
 
     A forward lobe narrower than a direction's cell (g = 0.88: the half width at half maximum is 5.6 deg, the cells
     of 10 azimuths over pi are 18 deg wide) sampled at the directions misses most of its weight, which the
@@ -496,7 +497,8 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
     horizon rather than the ground's 6 deg below, and the first two orders from the ground of a thin atmosphere over
     a bright ground read 10.5% low; benchmarks/tables_orders.py, random atmosphere 100004.) Points whose directions
     and views agree to 1e-6 (at a given r, every sun above the horizon) share a kernel: it is computed once per
-    distinct point."""
+    distinct point and kept once (on the lit-band quadrature 94-96 distinct of Mars's 768 points and random
+    atmosphere 809's 1536)."""
     n_mu_s = views.shape[2]
     dirs = np.broadcast_to(dirs, (n_r, n_mu_s) + dirs.shape[-2:])
     weights = np.broadcast_to(weights, (n_r, n_mu_s) + weights.shape[-1:])
@@ -538,8 +540,8 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
         mass = np.take_along_axis(mass, view_row, axis=1).astype(np.float32)
         scale = np.where(sampled > 0.0, mass / np.where(sampled > 0.0, sampled, 1.0), 0.0)
         k *= np.take_along_axis(scale, np.broadcast_to(piece[:, None, :], k.shape), axis=-1)
-        out[lobe] = k[inverse.ravel()].reshape((n_r, n_mu_s) + views.shape[:2] + k.shape[-1:])
-    return [out[lobe] for lobe in lobes]
+        out[lobe] = k.reshape((len(first),) + views.shape[:2] + k.shape[-1:])
+    return [out[lobe] for lobe in lobes], inverse.reshape(n_r, n_mu_s)
 
 
 #: Rays whose optical depth exceeds ``SPLIT_OPTICAL_DEPTH`` at some wavelength before ``SPLIT_NODE_SHARE`` of their
@@ -925,9 +927,10 @@ class _DensityKernels:
         self.vv = np.moveaxis(vv.reshape(-1, vv.shape[2], 9), 1, 0)              # (n_mu_s, n_mu n_nu, 9)
         self.beta_r = np.asarray(atm.rayleigh.scattering_m)
         self.beta_m = np.asarray(atm.mie.scattering_m)
-        self.mie_kernels = _mie_kernels(atm, views[0], dirs, weights, ends, n_phi, density_shape[0])
-        self.kernel_groups = [(k, [w for w, other in enumerate(self.mie_kernels) if other is k])
-                              for k in {id(k): k for k in self.mie_kernels}.values()]
+        mie_kernels, point_kernel = _mie_kernels(atm, views[0], dirs, weights, ends, n_phi, density_shape[0])
+        self.kernel_groups = [(k, [w for w, other in enumerate(mie_kernels) if other is k])
+                              for k in {id(k): k for k in mie_kernels}.values()]
+        self.kernel_points = [np.nonzero(point_kernel.ravel() == u)[0] for u in range(len(mie_kernels[0]))]
         self.forward_j = forward_factor(atm, nu_j)                      # (1, n_mu, n_nu, n_mu_s, W)
         self.weights = weights
         self.shape = density_shape
@@ -958,13 +961,17 @@ class _DensityKernels:
         """sum_w P_M(w . v) L(w) dw by the renormalised kernels at every view of the density grid, (density grid +
         (W,)), float32, for L (n_r, n_mu_s, K, W)."""
         n_r, n_mu_s, K = L.shape[:3]
-        out = np.empty(self.shape + (L.shape[-1],), np.float32)
+        W = L.shape[-1]
+        mie = np.empty((W, n_r * n_mu_s) + self.shape[1:3], np.float32)
         for kernel, ws in self.kernel_groups:
-            # one matrix product per point (r, mu_s) for all the wavelengths that share the kernel
-            mie = np.matmul(kernel.reshape(n_r * n_mu_s, -1, K),
-                            L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, -1))
-            out[..., ws] = np.moveaxis(mie.reshape(n_r, n_mu_s, *self.shape[1:3], len(ws)), 1, 3)
-        return out
+            L_ws = L[..., ws].astype(np.float32).reshape(n_r * n_mu_s, K, len(ws))
+            for u, points in enumerate(self.kernel_points):
+                # one matrix product per distinct kernel, for its points and the wavelengths that share it
+                light = np.moveaxis(L_ws[points], 0, 1).reshape(K, -1)                   # (K, points ws)
+                product = (kernel[u].reshape(-1, K) @ light).reshape(self.shape[1:3] + (len(points), len(ws)))
+                for i, w in enumerate(ws):
+                    mie[w, points] = np.moveaxis(product[..., i], 2, 0)
+        return np.transpose(mie.reshape((W, n_r, n_mu_s) + self.shape[1:3]), (1, 3, 4, 2, 0))
 
     def density(self, L, sigma_sun, order):
         """J (density grid + (2W,), float32: [J_R, J_M / F]) from the incident light L of ``order`` (n_r, n_mu_s,
