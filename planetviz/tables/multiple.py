@@ -554,7 +554,8 @@ def _mie_kernels(atm, views, dirs, weights, ends, n_phi, n_r, samples=KERNEL_CEL
 #: reach that depth: splitting them all cost its standard precompute 0.3 s of 3.5).
 SPLIT_OPTICAL_DEPTH, SPLIT_NODE_SHARE = 3.0, 0.5
 #: The texels' rays are prepared in blocks of about this many nodes (``_ray_paths``): the geometry of every node
-#: of every texel at once (float64, several arrays) took most of a lobe-texel precompute's memory.
+#: of every texel at once (several float64 arrays of 40 million nodes under the lobe texels of a thick atmosphere)
+#: would take several GB.
 RAY_BLOCK_POINTS = 2 ** 22
 
 
