@@ -311,8 +311,11 @@ class _Incident:
         else:
             density_shape, samples = along_rays
             d = np.where(self.ground, d_ground, distance_to_top_atmosphere_boundary(self.r, self.mu, tables.top))
-            self.rays = _density_along_rays(tables, atm, density_shape, self.r, self.mu, self.mu_s, self.nu,
-                                            self.ground, d, samples, split=True, thick=True)
+            # in blocks of whole points r, about RAY_BLOCK_POINTS nodes each (five segments of 2 n nodes)
+            block = max(RAY_BLOCK_POINTS // (int(np.prod(shape[1:])) * 10 * samples), 1)
+            self.rays = [_density_along_rays(tables, atm, density_shape, *(a[i:i + block] for a in (
+                self.r, self.mu, self.mu_s, self.nu, self.ground, d)), samples, split=True, thick=True)
+                for i in range(0, shape[0], block)]
         self.with_ground = with_ground and bool(np.any(self.ground))
         if self.with_ground:
             d = d_ground
@@ -332,8 +335,8 @@ class _Incident:
         if self.forward is None:                  # the same every order: computed once
             self.forward = forward_factor(atm, self.nu)
         if self.rays is not None:
-            stencil, node_weight = self.rays
-            both = stencil.apply(density_prev, along=node_weight)
+            both = np.concatenate([stencil.apply(density_prev, along=node_weight)
+                                   for stencil, node_weight in self.rays])
             W = both.shape[-1] // 2
             return both[..., :W], self.forward * both[..., W:]
         both = self.stencil.apply(ms_prev)
