@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_coordinate, distance_from_coordinate,
-                               distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary, distance_warp, irradiance_uv_from_r_mu_s,
+                               distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary,
+                               distance_warp, irradiance_uv_from_r_mu_s,
                                ray_intersects_ground, rho_from_x_r, safe_sqrt, scattering_uvwz_from_r_mu_mu_s_nu,
                                texcoord_from_unit_range, transmittance_uv_from_r_mu, VIEW_ANGLE_OFFSET,
                                x_mu_s_from_mu_s, x_r_from_rho)
@@ -292,17 +293,13 @@ class ScatteringStencil:
                     columns[..., c] = (kk * n_mu + jj) * n_x + slot
                     weights[..., c] = wn * wz * wy
                     c += 1
+        matrix = csr_matrix((weights.reshape(-1), columns.reshape(-1),
+                             np.arange(n_points + 1, dtype=index) * per_point), shape=(n_points, n_texels))
         # in chunks of whole rows of the last axis (a ray's nodes when :meth:`apply` sums along it), about
-        # STENCIL_CHUNK points each, so that a chunk's reads and blend stay in the caches; each chunk's matrix
-        # holds views of the columns and weights
+        # STENCIL_CHUNK points each, so that a chunk's reads and blend stay in the caches
         step = max(STENCIL_CHUNK // self.shape[-1], 1) * self.shape[-1] if self.shape else 1
-        columns, weights = columns.reshape(-1, per_point), weights.reshape(-1, per_point)
-        self.chunks = []
-        for start in range(0, n_points, step):
-            points = slice(start, min(start + step, n_points))
-            starts = np.arange(points.stop - points.start + 1, dtype=index) * per_point
-            self.chunks.append((points, csr_matrix((weights[points].ravel(), columns[points].ravel(), starts),
-                                                   shape=(points.stop - points.start, n_texels), copy=False)))
+        self.chunks = [(slice(start, min(start + step, n_points)), matrix[start:start + step])
+                       for start in range(0, n_points, step)]
         self.f = fs.reshape(-1, 1).astype(np.float32)
         self.opacity = None
         if mapping is scattering_uvwz_from_r_mu_mu_s_nu:
@@ -327,13 +324,8 @@ class ScatteringStencil:
                                     self.f[points])
             if opacity is not None:
                 value *= opacity[points]
-            if along is not None:                       # whole rays: the chunk's rays of ``along``, broadcast
-                rays = np.unravel_index(np.arange(points.start, points.stop, self.shape[-1]) // self.shape[-1],
-                                        self.shape[:-1])
-                value = np.einsum("rkc,rkc->rc", value.reshape(-1, self.shape[-1], channels), along[rays])
-            out.append(value)
-        value = np.concatenate(out)
-        return value.reshape((self.shape if along is None else self.shape[:-1]) + (channels,))
+            out.append(value if along is None else sum_along_rays(value, points, self.shape, along))
+        return stencil_output(out, self.shape, along)
 
 
 #: Points per chunk of :meth:`ScatteringStencil.apply` and :meth:`RayStencil.apply`.
@@ -355,7 +347,8 @@ class RayStencil:
     3. the pair's two mu_s texels blended geometrically (:func:`geometric_blend`).
 
     It stores 12 bytes per point (where the sparse matrix stores 68: eight column indices and weights) and reads
-    the same values within float32 rounding. The points go in chunks of whole leading indices (whole rays where
+    the same values within float32 rounding. The (r, mu) values follow the points' leading axis (repeated along it
+    where r, mu and ground do not vary there); the points go in chunks of whole leading indices (whole rays where
     :meth:`apply` sums along the last axis), about ``STENCIL_CHUNK`` points each (at least one leading index)."""
 
     def __init__(self, t, shape, r, mu, mu_s, nu, intersects_ground, mapping=density_uvwz_from_r_mu_mu_s_nu):
@@ -363,7 +356,7 @@ class RayStencil:
         n_r, n_mu, n_nu, n_mu_s = shape
         self.shape = np.broadcast_shapes(*(np.shape(a) for a in (r, mu, mu_s, nu, intersects_ground)))
         rows_shape = np.broadcast_shapes(*(np.shape(a) for a in (r, mu, intersects_ground)))
-        rows_shape = (1,) * (len(self.shape) - len(rows_shape)) + rows_shape
+        rows_shape = self.shape[:1] + ((1,) * (len(self.shape) - len(rows_shape)) + rows_shape)[1:]
         u_nu, u_mu_s, u_mu, u_r = mapping(r, mu, mu_s, nu, intersects_ground, t.bottom, t.top,
                                           (n_nu, n_mu_s, n_mu, n_r), t.r_axis)
         (j0, j1, fy), (k0, k1, fz) = (texel_axis(np.broadcast_to(u, rows_shape), n)
@@ -383,13 +376,10 @@ class RayStencil:
         self.entry = np.broadcast_to(row * self.n_x + tex_nu * (n_mu_s + 1) + pair, self.shape).astype(index).ravel()
         self.lerp = np.broadcast_to(coord - tex_nu, self.shape).astype(np.float32).reshape(-1, 1)
         self.f = np.broadcast_to(texel_axis(u_mu_s, n_mu_s)[2], self.shape).astype(np.float32).reshape(-1, 1)
-        lead = self.shape[0] if self.shape else 1
-        per_lead = int(np.prod(self.shape[1:], dtype=np.int64))
-        step = max(STENCIL_CHUNK // max(per_lead, 1), 1) if rows_shape[0] == lead else lead
-        rows_per_lead = n_rows // lead if rows_shape[0] == lead else n_rows
+        lead, per_lead = self.shape[0], int(np.prod(self.shape[1:], dtype=np.int64))
+        step, rows_per_lead = max(STENCIL_CHUNK // max(per_lead, 1), 1), n_rows // lead
         self.chunks = [(slice(a * per_lead, min(a + step, lead) * per_lead),
-                        slice(a * rows_per_lead, min(a + step, lead) * rows_per_lead) if rows_shape[0] == lead
-                        else slice(0, n_rows)) for a in range(0, lead, step)]
+                        slice(a * rows_per_lead, min(a + step, lead) * rows_per_lead)) for a in range(0, lead, step)]
 
     def apply(self, table, along=None):
         """As :meth:`ScatteringStencil.apply`: the table at the stencil's points, or with ``along`` their weighted sum
@@ -410,14 +400,21 @@ class RayStencil:
                 both += upper
             value = geometric_blend(np.ascontiguousarray(both[:, :channels]),          # step 3
                                     np.ascontiguousarray(both[:, channels:]), self.f[points])
-            if along is not None:
-                rays = np.unravel_index(np.arange(points.start, points.stop, self.shape[-1]) // self.shape[-1],
-                                        self.shape[:-1])
-                value = np.einsum("rkc,rkc->rc", value.reshape(-1, self.shape[-1], channels), along[rays])
-            out.append(value)
-        value = np.concatenate(out)
-        return value.reshape((self.shape if along is None else self.shape[:-1]) + (channels,))
+            out.append(value if along is None else sum_along_rays(value, points, self.shape, along))
+        return stencil_output(out, self.shape, along)
 
+
+def sum_along_rays(value, points, shape, along):
+    """A chunk of a stencil's values (the flat ``points``, whole rows of the last axis of ``shape``; C) summed along
+    that axis with the weights ``along`` (``shape`` + (C,)): the chunk's rays, (rays, C)."""
+    rays = np.unravel_index(np.arange(points.start, points.stop, shape[-1]) // shape[-1], shape[:-1])
+    return np.einsum("rkc,rkc->rc", value.reshape(-1, shape[-1], value.shape[-1]), along[rays])
+
+
+def stencil_output(chunks, shape, along):
+    """A stencil's chunks of values joined: ``shape`` + (C,), or ``shape[:-1]`` + (C,) summed ``along`` rays."""
+    value = np.concatenate(chunks)
+    return value.reshape((shape if along is None else shape[:-1]) + value.shape[-1:])
 
 
 def get_scattering(t, table, r, mu, mu_s, nu, intersects_ground, opacity=None, top=None):
