@@ -56,7 +56,9 @@ def times(tree, args):
     out = subprocess.run([sys.executable, "-c", TIMER, args.atmosphere, args.quality, str(args.repeat),
                           str(ROOT / "benchmarks")] + [str(i) for i in args.wavelengths],
                          env={**os.environ, "PYTHONPATH": str(tree)}, cwd=tempfile.gettempdir(),
-                         check=True, capture_output=True, text=True)
+                         capture_output=True, text=True)
+    if out.returncode:
+        raise SystemExit(f"{tree}: the precompute failed:\n{out.stderr}")
     lines = out.stdout.split("\n")
     peak = next(int(line.split()[1]) for line in lines if line.startswith("peak"))
     return [float(x) for x in lines if x and not x.startswith("peak")], peak

@@ -60,7 +60,7 @@ vec2 shadow_interval(float a, float mu, float mu_s, float nu, float d) {
     return p_lo < 0.0 ? vec2(lo, t_p) : vec2(t_p, hi);
 }
 
-// One node's term of precompute.py's single_scattering_integral, for both quadratures along rays: w T(x, x_t)
+// One node's term of tables/single.py's single_scattering_integral, for both quadratures along rays: w T(x, x_t)
 // T_sun(x_t) times the Rayleigh and the Mie density at x_t = x + t v, added to s_r and s_m (the callers multiply by
 // the scattering coefficients once). readings: ray_readings of the ray.
 void add_single_scattering_node(float a, float mu, float mu_s, float nu, float t, float w, mat2x4 readings, int g,

@@ -115,11 +115,11 @@ def multiple_only(monkeypatch, tables, camera, view, sun):
     """sky_radiance of the multiple-scattering and irradiance tables alone: the single-scattering tables zeroed and
     read for every ray, without tables/near_ground.py's and tables/horizon.py's quadratures (which integrate single
     scattering from the transmittance table, so that zeroing the tables would not remove it)."""
-    evaluator = importlib.import_module("planetviz.tables.evaluator")
+    horizon = importlib.import_module("planetviz.tables.horizon")
     zero = np.zeros_like(tables.rayleigh)
     with monkeypatch.context() as m:
-        m.setattr(evaluator, "near_ground_rays", lambda t, r, ground: np.zeros(np.shape(r), bool))
-        m.setattr(evaluator, "quadrature_share", lambda r, mu, *rest: np.zeros(np.shape(mu)))
+        m.setattr(horizon, "near_ground_rays", lambda t, r, ground: np.zeros(np.shape(r), bool))
+        m.setattr(horizon, "quadrature_share", lambda r, mu, *rest: np.zeros(np.shape(mu)))
         return sky_radiance(replace(tables, rayleigh=zero, mie=zero), EARTH, camera, view, sun)
 
 def test_second_order_along_the_limb_from_space_has_converged_in_the_nodes_along_the_rays(standard_single,

@@ -105,7 +105,7 @@ def test_the_horizon_quadrature_blends_into_the_tables_without_a_step(monkeypatc
     # the horizon, must agree within 1e-4; measured: at most 8.9e-6 (30 km, the sun 10 deg up). At each altitude
     # the quadrature and the tables differ by more than 1e-3, ten times that bound, at the band's inner ends
     # (measured: 2 m 0.25%, 1 km 0.46%, 30 km 19%), so a step would show.
-    evaluator = importlib.import_module("planetviz.tables.evaluator")
+    horizon = importlib.import_module("planetviz.tables.horizon")
     from planetviz.tables.horizon import HORIZON_BAND
     inner, outer = HORIZON_BAND
     for alt in (2.0, 1e3, 3e4):
@@ -123,7 +123,7 @@ def test_the_horizon_quadrature_blends_into_the_tables_without_a_step(monkeypatc
             lo, hi = got[:len(edges)], got[len(edges):]
             assert np.max(np.abs(hi - lo) / np.maximum(hi, lo)) < 1e-4, (alt, el)
             with monkeypatch.context() as m:
-                m.setattr(evaluator, "quadrature_share", lambda r, mu, *rest: np.zeros_like(np.asarray(mu, float)))
+                m.setattr(horizon, "quadrature_share", lambda r, mu, *rest: np.zeros_like(np.asarray(mu, float)))
                 tables_only, _ = sky_radiance(TABLES, EARTH, cams, views, sun)
             at_inner = [1, 2, len(edges) + 1, len(edges) + 2]
             differ = max(differ, np.max(np.abs(got - tables_only)[at_inner] / tables_only[at_inner]))
@@ -271,7 +271,7 @@ def test_the_twilight_quadrature_blends_into_the_tables_without_a_step(monkeypat
     # 1e-7 rad either side must agree within 1e-4 (measured: at most 2.1e-5, 1 km), and at the band's inner end the
     # quadrature and the tables must differ by more than 3e-3 somewhere (measured: up to 5.5%), so that a step
     # would show.
-    evaluator = importlib.import_module("planetviz.tables.evaluator")
+    horizon = importlib.import_module("planetviz.tables.horizon")
     from planetviz.tables.horizon import TWILIGHT_BAND, lowest_mu_s
     from planetviz.tables.parameterization import (distance_to_bottom_atmosphere_boundary,
                                                    distance_to_top_atmosphere_boundary, ray_intersects_ground)
@@ -303,7 +303,7 @@ def test_the_twilight_quadrature_blends_into_the_tables_without_a_step(monkeypat
             assert np.max(np.abs(above - below) / np.maximum(above, below)) < 1e-4, (alt, edge)
             if edge == inner:
                 with monkeypatch.context() as m:
-                    m.setattr(evaluator, "quadrature_share", lambda r, mu, *rest: np.zeros_like(np.asarray(mu, float)))
+                    m.setattr(horizon, "quadrature_share", lambda r, mu, *rest: np.zeros_like(np.asarray(mu, float)))
                     tables_only, _ = sky_radiance(TABLES, EARTH, cams, np.concatenate([views, views]), suns)
                 lit = tables_only > 1e-12
                 differ = max(differ, np.max(np.abs(got - tables_only)[lit] / tables_only[lit]))

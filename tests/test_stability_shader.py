@@ -172,7 +172,7 @@ def test_twilight_rays_are_integrated_in_the_shaders_as_in_the_evaluator(shading
     # so a shader that read the tables would fail.
     import importlib
     from planetviz.validation import random_atmosphere
-    evaluator = importlib.import_module("planetviz.tables.evaluator")
+    horizon = importlib.import_module("planetviz.tables.horizon")
     atm = random_atmosphere(2)
     scene = Scene(atm, quality="draft", surface=None, off_screen=True, window_size=SIZE, shading=shading)
     scene.settings.show_sun = False
@@ -187,7 +187,7 @@ def test_twilight_rays_are_integrated_in_the_shaders_as_in_the_evaluator(shading
         cams = np.tile(scene.camera_location, (len(dirs), 1))
         want, _ = sky_radiance(scene.planet.tables, atm, cams, dirs, scene.sun_direction)
         with monkeypatch.context() as m:
-            m.setattr(evaluator, "quadrature_share", lambda r, mu, *rest: np.zeros(np.shape(mu)))
+            m.setattr(horizon, "quadrature_share", lambda r, mu, *rest: np.zeros(np.shape(mu)))
             tables, _ = sky_radiance(scene.planet.tables, atm, cams, dirs, scene.sun_direction)
     finally:
         scene.close()

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 #: Bump when the content or layout of any table changes: older files are then recomputed.
-FORMAT_VERSION = 45
+FORMAT_VERSION = 46
 
 def default_directory() -> Path:
     return Path(os.environ.get("PLANETVIZ_CACHE") or Path.home() / ".cache" / "planetviz")

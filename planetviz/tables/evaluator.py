@@ -26,35 +26,24 @@ from .compact import CompactTables, get_compact_scattering
 from .multiple import forward_factor
 from .lookup import (get_irradiance, get_scattering, get_transmittance, get_transmittance_to_sun,
                      get_transmittance_to_top_atmosphere_boundary, ground_row_factor, ray_opacity)
-from .horizon import horizon_single_scattering, quadrature_share
-from .near_ground import near_ground_rays, near_ground_single_scattering
+from .horizon import read_single_scattering
 from .parameterization import distance_to_bottom_atmosphere_boundary, ray_intersects_ground
 
 
 def phased_scattering(tables, atm, r, mu, mu_s, nu, ground):
-    """In-scattered radiance (..., W): single scattering with its phases, plus multiple scattering. Ground rays
-    from cameras near the ground take their single scattering from near_ground.py, not the tables; the other
-    rays next to the horizon's direction or with the sun low along them from horizon.py, blended into the tables'
-    reading by its share."""
+    """In-scattered radiance (..., W): single scattering with its phases (``horizon.read_single_scattering``:
+    ground rays from cameras near the ground from near_ground.py, not the tables; the other rays next to the
+    horizon's direction or with the sun low along them from horizon.py, blended into the tables' reading by its
+    share), plus multiple scattering."""
     if isinstance(tables, CompactTables):
         s_r, s_m, s_ms = (get_compact_scattering(tables, table, r, mu, mu_s)
                           for table in (tables.rayleigh, tables.mie, tables.multiple))
     else:
         opacity = ray_opacity(tables, r, mu, ground)
-        s_r, s_m, s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground, opacity, top)
-                                    for table, top in ((tables.rayleigh, None), (tables.mie, None),
-                                                       (tables.multiple, tables.top_multiple),
-                                                       (tables.multiple_mie, tables.top_multiple_mie)))
-        near = near_ground_rays(tables, r, ground)
-        if np.any(near):
-            s_r[near], s_m[near] = near_ground_single_scattering(tables, atm, r[near], mu[near], mu_s[near], nu[near])
-        share = np.where(near, 0.0, quadrature_share(r, mu, mu_s, nu, ground, tables.bottom, tables.top))
-        band = share > 0.0
-        if np.any(band):
-            q_r, q_m = horizon_single_scattering(tables, atm, r[band], mu[band], mu_s[band], nu[band], ground[band])
-            w = share[band][..., None]
-            s_r[band] += w * (q_r - s_r[band])
-            s_m[band] += w * (q_m - s_m[band])
+        s_r, s_m = read_single_scattering(tables, atm, r, mu, mu_s, nu, ground, opacity)
+        s_ms, s_ms_mie = (get_scattering(tables, table, r, mu, mu_s, nu, ground, opacity, top)
+                          for table, top in ((tables.multiple, tables.top_multiple),
+                                             (tables.multiple_mie, tables.top_multiple_mie)))
         s_ms = (s_ms + forward_factor(atm, nu) * s_ms_mie) * ground_row_factor(tables, r, mu, ground,
                                                                                 tables.multiple.shape[0])
     return s_r * atm.rayleigh.phase_function(nu)[..., None] + s_m * atm.mie.phase_function(nu) + s_ms

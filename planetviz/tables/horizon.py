@@ -16,7 +16,7 @@ atmospheres of benchmarks/tables_suite.py (--single).
 
 How. Rays within ``HORIZON_BAND[1]`` of the horizon's direction mu_h = -sqrt(1 - (R_b / r)^2) (:func:`horizon_share`),
 and rays along which the sun's elevation falls below ``TWILIGHT_BAND[1]`` (:func:`twilight_share`), integrate
-their single scattering as the precompute does (precompute.single_scattering_integral, with the tables'
+their single scattering as the precompute does (single.single_scattering_integral, with the tables'
 transmittances), on the two lit parts of the ray around the planet's shadow (near_ground.shadow_interval), with
 ``HORIZON_SAMPLES`` Gauss-Legendre nodes on each side of each part's closest approach (nodes.ray_nodes): 48
 nodes at most. The larger share (:func:`quadrature_share`) replaces the tables' reading where it is 1 and blends
@@ -34,10 +34,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .near_ground import shadow_interval
+from .lookup import get_scattering, ray_opacity
+from .near_ground import near_ground_rays, near_ground_single_scattering, shadow_interval
 from .parameterization import distance_to_bottom_atmosphere_boundary, distance_to_top_atmosphere_boundary
 from .nodes import ray_nodes
-from .precompute import single_scattering_integral
+from .single import single_scattering_integral
 
 #: |mu - mu_h| within which the quadrature replaces the tables, and where its share has fallen to 0.
 HORIZON_BAND = (0.01, 0.03)
@@ -96,12 +97,45 @@ def quadrature_share(r, mu, mu_s, nu, intersects_ground, bottom, top):
 def horizon_single_scattering(t, atm, r, mu, mu_s, nu, intersects_ground):
     """(S_R,1, S_M,1) (..., W) without phase, per unit solar irradiance, of the ray (r, mu) to the ground or to
     the top: the precompute's integral over [0, t_0] and [t_1, d] ([t_0, t_1] the planet's shadow), each with
-    ``ray_nodes(.., HORIZON_SAMPLES, ..)``."""
-    r, mu = np.asarray(r, float), np.asarray(mu, float)
+    ``ray_nodes(.., HORIZON_SAMPLES, ..)``. A part of zero length adds nothing and is not evaluated (a ray
+    wholly in the shadow, or lit on one side of it only: most of the precompute's incident rays in the shadow)."""
+    r, mu, mu_s, nu, intersects_ground = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (r, mu, mu_s, nu)), np.asarray(intersects_ground, bool))
     d = np.where(intersects_ground, distance_to_bottom_atmosphere_boundary(r, mu, t.bottom),
                  distance_to_top_atmosphere_boundary(r, mu, t.top))
     t_0, t_1 = shadow_interval(r, mu, mu_s, nu, d, t.bottom)
-    before, w_before = ray_nodes(r, mu, t_0, HORIZON_SAMPLES)
-    after, w_after = ray_nodes(r, mu, d, HORIZON_SAMPLES, start=t_1)
-    return single_scattering_integral(t, atm, r, mu, mu_s, nu, np.concatenate([before, after], -1),
-                                      np.concatenate([w_before, w_after], -1))
+    out = np.zeros((2,) + r.shape + (atm.n_wavelengths,))
+    for start, end in ((np.zeros_like(d), t_0), (t_1, d)):
+        part = end > start
+        if np.any(part):
+            nodes, weights = ray_nodes(r[part], mu[part], end[part], HORIZON_SAMPLES, start=start[part])
+            out[:, part] += single_scattering_integral(t, atm, r[part], mu[part], mu_s[part], nu[part], nodes,
+                                                       weights)
+    return out[0], out[1]
+
+
+def read_single_scattering(t, atm, r, mu, mu_s, nu, intersects_ground, opacity=None):
+    """(S_R,1, S_M,1) (..., W) without phase of the rays (r, mu) with the sun at (mu_s, nu), as the evaluator and
+    the shaders read single scattering: the 4D tables (``opacity``: the rays' ``lookup.ray_opacity``, computed
+    here if None), near_ground.py's quadrature for ground rays from cameras near the ground, and for the other
+    rays :func:`horizon_single_scattering` blended into the tables' reading by :func:`quadrature_share`. The
+    precompute's orders above the first read the sky of order 1 so too (tables/multiple.py)."""
+    r, mu, mu_s, nu, intersects_ground = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (r, mu, mu_s, nu)), np.asarray(intersects_ground, bool))
+    if opacity is None:
+        opacity = ray_opacity(t, r, mu, intersects_ground)
+    W = opacity.shape[-1]
+    both = get_scattering(t, np.concatenate([t.rayleigh, t.mie], -1), r, mu, mu_s, nu, intersects_ground,
+                          np.concatenate([opacity] * 2, -1))                  # both tables read at once
+    s_r, s_m = both[..., :W], both[..., W:]
+    near = near_ground_rays(t, r, intersects_ground)
+    if np.any(near):
+        s_r[near], s_m[near] = near_ground_single_scattering(t, atm, r[near], mu[near], mu_s[near], nu[near])
+    share = np.where(near, 0.0, quadrature_share(r, mu, mu_s, nu, intersects_ground, t.bottom, t.top))
+    band = share > 0.0
+    if np.any(band):
+        q_r, q_m = horizon_single_scattering(t, atm, r[band], mu[band], mu_s[band], nu[band], intersects_ground[band])
+        w = share[band][..., None]
+        s_r[band] += w * (q_r - s_r[band])
+        s_m[band] += w * (q_m - s_m[band])
+    return s_r, s_m

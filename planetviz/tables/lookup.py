@@ -135,8 +135,8 @@ def first_row_rho(t, n_r):
 def ground_row_factor(t, r, mu, intersects_ground, n_r):
     """(..., W) factor on what :func:`get_scattering` reads from a 4D table of ``n_r`` rows at (r, mu) (every
     reader of the multiple-scattering tables applies it: the evaluator, the shaders' get_phased_scattering, the
-    precompute's reads of each order, the compact tables; the last two also to the single-scattering tables,
-    which the evaluator and the shaders replace there by near_ground.py's quadrature): for ground rays from
+    precompute's reads of each order, the compact tables; the last also to the single-scattering tables, which
+    the others replace there by near_ground.py's quadrature): for ground rays from
     below the table's first row above the ground, the correction of the linear interpolation between the ground
     row and that row; 1 for every other ray ((..., 1) where no ray needs it).
 

@@ -55,8 +55,9 @@ from typing import NamedTuple
 import numpy as np
 
 from .extrapolation import OrderSum
-from .lookup import (EMPTY_RAY_OPACITY, RayStencil, ScatteringStencil, get_irradiance, get_scattering,
-                     get_transmittance, get_transmittance_to_sun, ground_row_factor, ray_opacity)
+from .horizon import read_single_scattering
+from .lookup import (EMPTY_RAY_OPACITY, RayStencil, ScatteringStencil, get_irradiance, get_transmittance,
+                     get_transmittance_to_sun, ground_row_factor, ray_opacity)
 from .nodes import (LONG_RAY_NODE_FACTOR, ZERO_RAY_LENGTH, depth_distance, integration_grid, is_optically_thick,
                     ray_nodes, scattering_grid, split_ray_nodes)
 from .parameterization import (density_uvwz_from_r_mu_mu_s_nu, distance_to_bottom_atmosphere_boundary,
@@ -302,10 +303,9 @@ class _Incident:
         d_ground = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
         self.forward = None
         self.opacity = ray_opacity(tables, self.r, self.mu, self.ground)
-        # lookup.ground_row_factor of the single and the multiple-scattering tables at these points
-        self.single_factor = ground_row_factor(tables, self.r, self.mu, self.ground, tables.rayleigh.shape[0])
         if along_rays is None:
             self.stencil = ScatteringStencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
+            # lookup.ground_row_factor of the multiple-scattering tables at these points
             self.multiple_factor = ground_row_factor(tables, self.r, self.mu, self.ground, ms_shape[0])
             self.rays = None
         else:
@@ -326,12 +326,10 @@ class _Incident:
     def sky_parts(self, tables, atm, order, ms_prev, density_prev=None):
         """(light last scattered by molecules, by particles) (..., K, W): the sky radiance of that order (from
         ``density_prev``, J of that order, where the geometry integrates along the rays)."""
-        if order == 1:                            # both single-scattering tables read at once
-            W = self.opacity.shape[-1]
-            both = get_scattering(tables, np.concatenate([tables.rayleigh, tables.mie], -1), self.r, self.mu,
-                                  self.mu_s, self.nu, self.ground, np.concatenate([self.opacity] * 2, -1))
-            return (both[..., :W] * atm.rayleigh.phase_function(self.nu)[..., None] * self.single_factor,
-                    both[..., W:] * atm.mie.phase_function(self.nu) * self.single_factor)
+        if order == 1:                            # as the evaluator reads it
+            s_r, s_m = read_single_scattering(tables, atm, self.r, self.mu, self.mu_s, self.nu, self.ground,
+                                              self.opacity)
+            return s_r * atm.rayleigh.phase_function(self.nu)[..., None], s_m * atm.mie.phase_function(self.nu)
         if self.forward is None:                  # the same every order: computed once
             self.forward = forward_factor(atm, self.nu)
         if self.rays is not None:
@@ -422,7 +420,6 @@ def _cells(dirs, weights, n_phi, samples):
     if samples == 1:
         return dirs[..., None, :]
     K = dirs.shape[-2]
-    n_cos = K // n_phi
     w_mu = weights[..., ::n_phi] * (n_phi / np.pi)                                   # (..., n_cos)
     b = np.concatenate([np.full(w_mu.shape[:-1] + (1,), -1.0), -1.0 + np.cumsum(w_mu, -1)], -1)
     f = (np.arange(samples) + 0.5) / samples

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from .parameterization import distance_to_bottom_atmosphere_boundary, rho_from_x_r
-from .precompute import single_scattering_integral
+from .single import single_scattering_integral
 
 #: Ground rays from cameras below this row of the single-scattering tables are integrated.
 NEAR_GROUND_ROWS = 5
@@ -86,7 +86,7 @@ def shadow_interval(r, mu, mu_s, nu, d, bottom):
 
 def near_ground_single_scattering(t, atm, r, mu, mu_s, nu):
     """(S_R,1, S_M,1) (..., W) without phase for ground rays at (r, mu, mu_s, nu): the integral of the
-    precompute's single scattering (precompute.single_scattering_integral) over [0, d], d the distance to the
+    precompute's single scattering (single.single_scattering_integral) over [0, d], d the distance to the
     ground, with ``NEAR_GROUND_SAMPLES`` Gauss-Legendre nodes on each of [0, t_0] and [t_1, d]
     (:func:`shadow_interval`); per unit solar irradiance."""
     r, mu = np.asarray(r, float), np.asarray(mu, float)
