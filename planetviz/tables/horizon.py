@@ -118,24 +118,26 @@ def read_single_scattering(t, atm, r, mu, mu_s, nu, intersects_ground, opacity=N
     """(S_R,1, S_M,1) (..., W) without phase of the rays (r, mu) with the sun at (mu_s, nu), as the evaluator and
     the shaders read single scattering: the 4D tables (``opacity``: the rays' ``lookup.ray_opacity``, computed
     here if None), near_ground.py's quadrature for ground rays from cameras near the ground, and for the other
-    rays :func:`horizon_single_scattering` blended into the tables' reading by :func:`quadrature_share`. The
-    precompute's orders above the first read the sky of order 1 so too (tables/multiple.py)."""
-    r, mu, mu_s, nu, intersects_ground = np.broadcast_arrays(
+    rays :func:`horizon_single_scattering` blended into the tables' reading by :func:`quadrature_share` (the
+    tables are read only where that share is below 1). The precompute's orders above the first read the sky of
+    order 1 so too (tables/multiple.py)."""
+    r, mu, mu_s, nu, ground = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (r, mu, mu_s, nu)), np.asarray(intersects_ground, bool))
-    if opacity is None:
-        opacity = ray_opacity(t, r, mu, intersects_ground)
-    W = opacity.shape[-1]
-    both = get_scattering(t, np.concatenate([t.rayleigh, t.mie], -1), r, mu, mu_s, nu, intersects_ground,
-                          np.concatenate([opacity] * 2, -1))                  # both tables read at once
-    s_r, s_m = both[..., :W], both[..., W:]
-    near = near_ground_rays(t, r, intersects_ground)
+    near = near_ground_rays(t, r, ground)
+    share = np.where(near, 0.0, quadrature_share(r, mu, mu_s, nu, ground, t.bottom, t.top))
+    W = atm.n_wavelengths
+    s = np.zeros((2,) + r.shape + (W,))                               # (S_R,1, S_M,1)
+    read = ~near & (share < 1.0)                                       # the rays whose tables' reading counts
+    if np.any(read):
+        opacity = (ray_opacity(t, r[read], mu[read], ground[read]) if opacity is None
+                   else np.broadcast_to(opacity, r.shape + (W,))[read])
+        both = get_scattering(t, np.concatenate([t.rayleigh, t.mie], -1), r[read], mu[read], mu_s[read], nu[read],
+                              ground[read], np.concatenate([opacity] * 2, -1))   # both tables read at once
+        s[0][read], s[1][read] = both[..., :W], both[..., W:]
     if np.any(near):
-        s_r[near], s_m[near] = near_ground_single_scattering(t, atm, r[near], mu[near], mu_s[near], nu[near])
-    share = np.where(near, 0.0, quadrature_share(r, mu, mu_s, nu, intersects_ground, t.bottom, t.top))
+        s[0][near], s[1][near] = near_ground_single_scattering(t, atm, r[near], mu[near], mu_s[near], nu[near])
     band = share > 0.0
     if np.any(band):
-        q_r, q_m = horizon_single_scattering(t, atm, r[band], mu[band], mu_s[band], nu[band], intersects_ground[band])
-        w = share[band][..., None]
-        s_r[band] += w * (q_r - s_r[band])
-        s_m[band] += w * (q_m - s_m[band])
-    return s_r, s_m
+        q = np.stack(horizon_single_scattering(t, atm, r[band], mu[band], mu_s[band], nu[band], ground[band]))
+        s[:, band] += share[band][..., None] * (q - s[:, band])
+    return s[0], s[1]
