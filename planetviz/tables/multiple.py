@@ -302,7 +302,6 @@ class _Incident:
         self.ground = ray_intersects_ground(self.r, self.mu, tables.bottom)
         d_ground = distance_to_bottom_atmosphere_boundary(self.r, self.mu, tables.bottom)
         self.forward = None
-        self.opacity = ray_opacity(tables, self.r, self.mu, self.ground)
         if along_rays is None:
             self.stencil = ScatteringStencil(tables, ms_shape, self.r, self.mu, self.mu_s, self.nu, self.ground)
             # lookup.ground_row_factor of the multiple-scattering tables at these points
@@ -327,8 +326,7 @@ class _Incident:
         """(light last scattered by molecules, by particles) (..., K, W): the sky radiance of that order (from
         ``density_prev``, J of that order, where the geometry integrates along the rays)."""
         if order == 1:                            # as the evaluator reads it
-            s_r, s_m = read_single_scattering(tables, atm, self.r, self.mu, self.mu_s, self.nu, self.ground,
-                                              self.opacity)
+            s_r, s_m = read_single_scattering(tables, atm, self.r, self.mu, self.mu_s, self.nu, self.ground)
             return s_r * atm.rayleigh.phase_function(self.nu)[..., None], s_m * atm.mie.phase_function(self.nu)
         if self.forward is None:                  # the same every order: computed once
             self.forward = forward_factor(atm, self.nu)

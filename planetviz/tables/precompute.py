@@ -10,8 +10,8 @@ Stages (each a function of the atmosphere and the table sizes):
    smooth next to the top, where tau falls to 0. Beside it, on the same rays, the share of the opacity 1 - T
    that scatters, int_0^d beta^scat T dt / (1 - T) (1 where nothing absorbs).
 2. ``single_scattering`` (tables/single.py)  S_R,1 and S_M,1 (r, mu, mu_s, nu) = int_0^d beta_i^scat(h_t) T(x, x_t)
-   T_sun(x_t) dt, divided by the ray's scattering opacity (``lookup.ray_opacity``), kept apart and without phase (applied
-   at render time, Mie per wavelength with its DHG). The view transmittance and density depend on (r, mu, t)
+   T_sun(x_t) dt, divided by the ray's scattering opacity (``lookup.ray_opacity``), kept apart and without phase
+   (applied at render time, Mie per wavelength with its DHG). The view transmittance and density depend on (r, mu, t)
    only; only T_sun(r_t, mu_s,t) with mu_s,t = (r mu_s + t nu) / r_t is evaluated over the whole 4D grid.
 3. ``multiple_scattering`` (tables/multiple.py): orders >= 2, the indirect irradiance, and the top tables of views
    upward at the top of the atmosphere (``multiple.top_source``).
